@@ -70,7 +70,7 @@ public:
     ast::Game run(std::string_view source);
 
 private:
-    void token(LineCursor& s);
+    void token(LineCursor& s, const U16& lineAsWritten);
     void endOfLine();
     void blankLine();
     void readSectionHeader(const std::string& name);
@@ -112,6 +112,7 @@ private:
 
     int line_ = 0;
     int commentDepth_ = 0;
+    int commentOpenedOn_ = 0;  // line of the outermost open comment
     Section section_ = Section::Prelude;
     bool sectionSeen_ = false;
     std::vector<std::string> visited_;
@@ -137,11 +138,12 @@ ast::Game Scanner::run(std::string_view source) {
     size_t start = 0;
     while (true) {
         size_t end = text.find(u'\n', start);
-        LineCursor cursor(text.substr(start, end == U16::npos ? U16::npos : end - start));
+        const U16 line = text.substr(start, end == U16::npos ? U16::npos : end - start);
+        LineCursor cursor(line);
         do {
             size_t before = cursor.pos();
             bool wasSol = cursor.sol();
-            token(cursor);
+            token(cursor, line);
             if (diag_.errorCount() > kMaxParseErrors) throw ParseGaveUp{};
             // Every token consumes input in the reference; never loop in place.
             if (cursor.pos() == before && !cursor.eol() && !wasSol) cursor.next();
@@ -149,12 +151,17 @@ ast::Game Scanner::run(std::string_view source) {
         if (end == U16::npos) break;
         start = end + 1;
     }
+    if (commentDepth_ > 0) {
+        diag_.warning(commentOpenedOn_, "this comment is never closed; everything after it is ignored");
+    }
     return std::move(game_);
 }
 
-void Scanner::token(LineCursor& s) {
-    const U16 mixedCase = s.text();
+void Scanner::token(LineCursor& s, const U16& lineAsWritten) {
+    // The reference keeps "the line as the token saw it": as written on the
+    // first token of a line, lower case (or as rewritten) afterwards.
     bool sol = s.sol();
+    const U16& mixedCase = sol ? lineAsWritten : s.text();
     if (sol) {
         ++line_;
         legendWords_.clear();
@@ -174,7 +181,7 @@ void Scanner::token(LineCursor& s) {
     int ch = s.peek();
     if (ch == u'(' && tokenIndex_ != -4) {
         s.next();
-        ++commentDepth_;
+        if (commentDepth_++ == 0) commentOpenedOn_ = line_;
     } else if (ch == u')') {
         s.next();
         if (commentDepth_ > 0) {

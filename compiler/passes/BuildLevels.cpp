@@ -25,8 +25,16 @@ BitSet backgroundFill(CompileState& st, const ir::Level& level) {
 ir::Level buildLevel(CompileState& st, const ast::LevelSource& src) {
     ir::Level level;
     level.line = src.line;
-    level.width = static_cast<int>(src.rows.front().size());
-    level.height = static_cast<int>(src.rows.size());
+    const size_t width = src.rows.front().size();
+    const size_t height = src.rows.size();
+    if (width * height > kMaxLevelCells) {
+        st.diag.error(src.line, "this level has " + std::to_string(width) + " x " + std::to_string(height) +
+                                    " cells; psc supports at most " + std::to_string(kMaxLevelCells));
+        st.invalid = true;
+        return level;
+    }
+    level.width = static_cast<int>(width);
+    level.height = static_cast<int>(height);
     level.cells.assign(static_cast<size_t>(level.width) * static_cast<size_t>(level.height), BitSet(st.objectBits));
     std::unordered_map<char16_t, BitSet> glyphCache;
     for (int x = 0; x < level.width; ++x) {

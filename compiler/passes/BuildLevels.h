@@ -12,6 +12,9 @@
 
 namespace psc::passes {
 
+// A limit of psc's (the reference has none): levels of more cells are rejected.
+inline constexpr size_t kMaxLevelCells = size_t{1} << 20;
+
 void buildLevels(CompileState& state);
 
 }  // namespace psc::passes

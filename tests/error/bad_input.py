@@ -1,0 +1,65 @@
+"""Bad input never crashes or hangs psc: each case must end, within a time
+limit, with a non-zero exit and a located error message."""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+PSC = sys.argv[1]
+TIMEOUT_S = 60
+LOCATED = re.compile(r"^[^:\n]+(:\d+:\d+)?: error: ", re.M)
+
+MINIMAL = """OBJECTS
+Background
+black
+Player
+blue
+LEGEND
+. = Background
+P = Player
+SOUNDS
+COLLISIONLAYERS
+Background
+Player
+RULES
+WINCONDITIONS
+LEVELS
+.P
+"""
+
+
+def cases():
+    yield "empty file", b""
+    yield "binary garbage", bytes((i * 7919 + 13) % 256 for i in range(200_000))
+    yield "50 MB file", b"a" * (50 * 1024 * 1024)
+    yield "unterminated comment", MINIMAL.replace("RULES", "RULES\n(never closed").replace("LEVELS\n.P\n", "").encode()
+    yield "missing sections", b"OBJECTS\nBackground\nblack\n\nLEVELS\n.\n"
+    yield "unknown names", MINIMAL.replace("RULES\n", "RULES\n[ Ghost ] -> [ Player ]\n").encode()
+    yield "absurd level size", (MINIMAL + ("." * 2000 + "\n") * 1000).encode()
+    yield "deeply nested comments", ("(" * 100_000 + "\n" + MINIMAL).encode()
+    yield "very long line", MINIMAL.replace("RULES\n", "RULES\n" + "[ Player ] " * 200_000 + "\n").encode()
+    yield "NUL bytes", MINIMAL.replace("Player\nblue", "Pla\0yer\nblue").encode()
+
+
+def main():
+    failures = 0
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, data in cases():
+            path = os.path.join(tmp, "game.txt")
+            with open(path, "wb") as f:
+                f.write(data)
+            try:
+                r = subprocess.run([PSC, "check", path], capture_output=True, timeout=TIMEOUT_S)
+            except subprocess.TimeoutExpired:
+                print(f"FAIL {name}: no answer within {TIMEOUT_S} s")
+                failures += 1
+                continue
+            err = r.stderr.decode("utf-8", "replace")
+            ok = r.returncode == 1 and LOCATED.search(err) is not None
+            print(f"{'ok  ' if ok else 'FAIL'} {name}: exit {r.returncode}; {err.splitlines()[0] if err else '(no message)'}"[:200])
+            failures += 0 if ok else 1
+    sys.exit(1 if failures else 0)
+
+
+main()
