@@ -1,13 +1,20 @@
 // psc: the PuzzleScript compiler driver.
 //
 //   psc check GAME.txt                       diagnostics; exit 0 if the game compiles
-//   psc GAME.txt --emit ast|ir [--format text|json|reference]
+//   psc GAME.txt --emit ast|ir|cpp [--format text|json|reference]
+//   psc GAME.txt -o GAME.so                  build the step-function plugin
+//   psc replay CASE.json                     replay a corpus trace and compare every state
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <filesystem>
 
+#include "Bench.h"
+#include "CppSource.h"
 #include "Diagnose.h"
+#include "GameBuild.h"
+#include "Replay.h"
 #include "SourceFile.h"
 #include "ast/AstDump.h"
 #include "ir/IrDump.h"
@@ -31,6 +38,17 @@ int runCheck(const std::string& path) {
 int runEmit(const std::string& path, const std::string& stage, const std::string& format, bool keepGoing) {
     auto source = cli::readSource(path);
     if (!source) return 1;
+    if (stage == "cpp") {
+        cli::GameBuildOptions gb;
+        gb.keepGoing = keepGoing;
+        auto game = cli::compileForBuild(*source, path, gb);
+        if (!game) return 1;
+        codegen::SourceOptions so;
+        so.sourceName = path;
+        so.sourceSha1 = sha1Hex(*source);
+        fmt::print("{}", codegen::cpuPluginSource(*game, so));
+        return 0;
+    }
     if (stage == "ast") {
         CompileResult parsed = parseSource(*source);
         cli::printDiagnostics(stderr, path, parsed);
@@ -53,6 +71,23 @@ int runEmit(const std::string& path, const std::string& stage, const std::string
     return 0;
 }
 
+int runBuild(const std::string& path, const std::string& output, const cli::GameBuildOptions& options) {
+    auto source = cli::readSource(path);
+    if (!source) return 1;
+    auto game = cli::compileForBuild(*source, path, options);
+    if (!game) return 1;
+    std::string built;
+    auto plugin = cli::loadCpuPlugin(*game, *source, path, options, &built);
+    if (!plugin) return 1;
+    std::error_code ec;
+    std::filesystem::copy_file(built, output, std::filesystem::copy_options::overwrite_existing, ec);
+    if (ec) {
+        fmt::print(stderr, "{}: error: cannot write {}: {}\n", path, output, ec.message());
+        return 1;
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -64,7 +99,15 @@ int main(int argc, char** argv) {
     std::string format = "text";
     bool keepGoing = false;
     app.add_option("game", game, "the PuzzleScript game to compile");
-    app.add_option("--emit", emit, "print one stage and stop")->check(CLI::IsMember({"ast", "ir"}));
+    std::string output;
+    std::string target = "cpu";
+    bool verbose = false;
+    bool native = false;
+    app.add_option("--emit", emit, "print one stage and stop")->check(CLI::IsMember({"ast", "ir", "cpp"}));
+    app.add_option("-o,--output", output, "build the plugin (a shared library) to this file");
+    app.add_option("--target", target, "plugin backends")->check(CLI::IsMember({"cpu"}));
+    app.add_flag("--verbose", verbose, "print the compiler command and cache use");
+    app.add_flag("--native", native, "optimise the CPU code for this machine (-march=native)");
     app.add_option("--format", format, "output format of --emit")->check(CLI::IsMember({"text", "json", "reference"}));
     app.add_flag("--keep-going", keepGoing, "build games that have errors but that the reference engine still plays");
 
@@ -72,16 +115,45 @@ int main(int argc, char** argv) {
     CLI::App* check = app.add_subcommand("check", "report errors and warnings; exit 0 when the game compiles");
     check->add_option("game", checkGame, "the game")->required();
 
+    cli::ReplayOptions replayOptions;
+    CLI::App* replay = app.add_subcommand("replay", "replay a corpus trace case and compare every state with it");
+    replay->add_option("case", replayOptions.casePath, "the case file (JSON)")->required();
+    replay->add_option("--backend", replayOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
+    replay->add_option("--dump", replayOptions.dumpPath, "write every state as a JSON line to this file");
+    replay->add_flag("--verbose", replayOptions.build.build.verbose, "print the compiler command and cache use");
+
+    cli::BenchOptions benchOptions;
+    CLI::App* bench = app.add_subcommand("bench", "steps per second on random actions (auto-reset on win)");
+    bench->add_option("game", benchOptions.gamePath, "the game")->required();
+    bench->add_option("--level", benchOptions.level, "playable level, from 0");
+    bench->add_option("--batch", benchOptions.batch, "environments stepped together");
+    bench->add_option("--steps", benchOptions.steps, "steps per environment in one timed run");
+    bench->add_option("--threads", benchOptions.threads, "CPU threads");
+    bench->add_option("--repeats", benchOptions.repeats, "timed runs (the median is reported)");
+    bench->add_option("--warmup", benchOptions.warmup, "untimed runs first");
+    bench->add_option("--backend", benchOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
+    bench->add_flag("--native", benchOptions.build.build.native, "compile for this machine (-march=native)");
+    bench->add_flag("--verbose", benchOptions.build.build.verbose, "print the compiler command and cache use");
+
     CLI11_PARSE(app, argc, argv);
 
+    if (*bench) return cli::runBench(benchOptions);
     if (*check) return runCheck(checkGame);
+    if (*replay) return cli::runReplay(replayOptions);
     if (game.empty()) {
         fmt::print(stderr, "{}", app.help());
         return 2;
     }
-    if (emit.empty()) {
-        fmt::print(stderr, "psc: nothing to do (use --emit, or check)\n");
+    if (emit.empty() && output.empty()) {
+        fmt::print(stderr, "psc: nothing to do (use -o, --emit, or a subcommand)\n");
         return 2;
+    }
+    if (!output.empty()) {
+        cli::GameBuildOptions options;
+        options.keepGoing = keepGoing;
+        options.build.verbose = verbose;
+        options.build.native = native;
+        return runBuild(game, output, options);
     }
     if (format == "reference" && emit != "ir") {
         fmt::print(stderr, "psc: --format reference applies to --emit ir\n");

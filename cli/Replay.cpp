@@ -1,0 +1,133 @@
+#include "Replay.h"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace psc::cli {
+namespace {
+
+using nlohmann::json;
+
+constexpr int kReplayUndoDepth = 4096;
+
+int actionOf(const std::string& input) {
+    static const char* const kNames[] = {"up", "left", "down", "right", "action", "undo", "restart", "tick"};
+    for (int i = 0; i < 8; ++i) {
+        if (input == kNames[i]) return i;
+    }
+    return -1;
+}
+
+// The recorded record without the fields psc does not reproduce (sound events).
+json comparable(json record) {
+    record.erase("sfx");
+    return record;
+}
+
+std::string cellNames(const json& record, size_t x, size_t y) {
+    const json& rows = record.at("rows");
+    if (y >= rows.size() || x >= rows[y].size()) return "(outside)";
+    return record.at("palette").at(rows[y][x].get<size_t>()).get<std::string>();
+}
+
+void printDifference(const json& expected, const json& actual) {
+    for (const char* field : {"level", "screen", "message", "won", "width", "height"}) {
+        if (expected.value(field, json()) != actual.value(field, json())) {
+            fmt::print("  {}: expected {}, got {}\n", field, expected.value(field, json()).dump(), actual.value(field, json()).dump());
+        }
+    }
+    const size_t height = std::max(expected.at("rows").size(), actual.at("rows").size());
+    int shown = 0;
+    for (size_t y = 0; y < height; ++y) {
+        size_t width = 0;
+        if (y < expected.at("rows").size()) width = expected.at("rows")[y].size();
+        if (y < actual.at("rows").size()) width = std::max(width, actual.at("rows")[y].size());
+        for (size_t x = 0; x < width; ++x) {
+            const std::string e = cellNames(expected, x, y);
+            const std::string a = cellNames(actual, x, y);
+            if (e == a) continue;
+            if (shown++ < 40) fmt::print("  cell ({}, {}): expected [{}], got [{}]\n", x, y, e, a);
+        }
+    }
+    if (shown > 40) fmt::print("  ... {} cells differ\n", shown);
+}
+
+}  // namespace
+
+int runReplay(const ReplayOptions& options) {
+    json c;
+    try {
+        std::ifstream in(options.casePath);
+        if (!in) {
+            fmt::print(stderr, "{}: error: cannot open the case\n", options.casePath);
+            return 2;
+        }
+        c = json::parse(in);
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "{}: error: not a JSON case: {}\n", options.casePath, e.what());
+        return 2;
+    }
+    if (options.backend != "cpu") {
+        fmt::print(stderr, "psc replay: backend {} is not available in this build\n", options.backend);
+        return 2;
+    }
+    if (c.value("kind", "") != "trace") {
+        fmt::print(stderr, "{}: error: not a trace case\n", options.casePath);
+        return 2;
+    }
+    const std::string game = c.at("game").get<std::string>();
+    GameBuildOptions build = options.build;
+    build.keepGoing = true;              // the reference plays games with up to five errors
+    build.build.optimization = "-O0";    // short traces: compile fast rather than run fast
+    auto compiled = compileForBuild(game, options.casePath, build);
+    if (!compiled) return 2;
+    auto plugin = loadCpuPlugin(*compiled, game, options.casePath, build);
+    if (!plugin) return 2;
+
+    std::ofstream dump;
+    if (!options.dumpPath.empty()) {
+        dump.open(options.dumpPath);
+        if (!dump) {
+            fmt::print(stderr, "{}: error: cannot write\n", options.dumpPath);
+            return 2;
+        }
+    }
+    try {
+        psc_batch_options bo = defaultBatchOptions();
+        bo.undo_depth = kReplayUndoDepth;
+        Batch batch(*plugin, bo);
+        const std::string seed = c.at("level_seed").get<std::string>();
+        batch.check(plugin->resetEntry(batch.get(), 0, c.at("start_level").get<int>(), seed.c_str()), "starting the level");
+        auto compare = [&](const json& expected, const std::string& label) {
+            const json actual = json::parse(batch.dump(0));
+            if (dump) dump << actual.dump() << "\n";
+            if (comparable(expected) == actual) return true;
+            fmt::print("MISMATCH {} {}\n", c.value("id", options.casePath), label);
+            printDifference(expected, actual);
+            return false;
+        };
+        if (!compare(c.at("initial"), "at the start")) return 1;
+        const json& inputs = c.at("inputs");
+        const json& steps = c.at("steps");
+        for (size_t i = 0; i < inputs.size(); ++i) {
+            const int action = actionOf(inputs[i].get<std::string>());
+            if (action < 0) {
+                fmt::print(stderr, "{}: error: unknown input {}\n", options.casePath, inputs[i].dump());
+                return 2;
+            }
+            int32_t a = action;
+            batch.check(plugin->step(batch.get(), &a, nullptr), "stepping");
+            if (!compare(steps.at(i), fmt::format("after input {} ({})", i, inputs[i].get<std::string>()))) return 1;
+        }
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "{}: error: {}\n", options.casePath, e.what());
+        return 2;
+    }
+    fmt::print("PASS {}\n", c.value("id", options.casePath));
+    return 0;
+}
+
+}  // namespace psc::cli

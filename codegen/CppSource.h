@@ -1,0 +1,30 @@
+// CppSource: the generated source of one game.
+//
+// The source is self-contained: the game's constants and tables, its rules
+// as code (RuleCode), and the fixed engine from templates/ (the turn, the
+// command queue, undo, levels), followed by the plugin's C ABI.  The same
+// device part compiles as CUDA.  Output depends only on the IR and the
+// options: the same input gives the same bytes.
+#pragma once
+
+#include <string>
+
+#include "ir/Ir.h"
+
+namespace psc::codegen {
+
+struct SourceOptions {
+    std::string sourceName;  // shown in the header comment and in game info
+    std::string sourceSha1;
+    std::string target = "cpu";  // cpu | cuda
+};
+
+// The part that runs per environment (host and device): tables, rules, engine.
+std::string deviceSource(const ir::Game& game, const SourceOptions& options);
+// The complete C++ translation unit of a CPU plugin.
+std::string cpuPluginSource(const ir::Game& game, const SourceOptions& options);
+
+// Words of 64 bits per bitboard for this game's largest level.
+int boardWords(const ir::Game& game);
+
+}  // namespace psc::codegen

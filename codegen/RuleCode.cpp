@@ -1,0 +1,536 @@
+#include "RuleCode.h"
+
+#include <fmt/format.h>
+
+#include <functional>
+#include <set>
+
+#include "Identifiers.h"
+#include "ir/IrDump.h"
+
+namespace psc::codegen {
+namespace {
+
+using ir::CellPattern;
+using ir::Game;
+using ir::Rule;
+
+// ---- cell patterns as board expressions and position tests
+
+std::string objectBoard(int id) { return fmt::format("e.obj[{}]", id); }
+std::string movementBoard(size_t bit) { return fmt::format("e.mov[{}]", bit); }
+
+std::string joinWith(const std::vector<std::string>& items, const std::string& sep) {
+    std::string out;
+    for (size_t i = 0; i < items.size(); ++i) out += (i ? sep : "") + items[i];
+    return out;
+}
+
+struct PatternTerms {
+    std::vector<std::string> required;  // boards that must all hold (each may be an OR)
+    std::vector<std::string> excluded;  // boards that must not hold
+};
+
+PatternTerms termsOf(const CellPattern& c) {
+    PatternTerms t;
+    c.present.forEach([&](size_t id) { t.required.push_back(objectBoard(static_cast<int>(id))); });
+    for (const auto& any : c.anyOf) {
+        std::vector<std::string> ors;
+        any.forEach([&](size_t id) { ors.push_back(objectBoard(static_cast<int>(id))); });
+        t.required.push_back(ors.empty() ? "Board::zero()" : ors.size() == 1 ? ors[0] : "(" + joinWith(ors, " | ") + ")");
+    }
+    c.movementsPresent.forEach([&](size_t bit) { t.required.push_back(movementBoard(bit)); });
+    c.missing.forEach([&](size_t id) { t.excluded.push_back(objectBoard(static_cast<int>(id))); });
+    c.movementsMissing.forEach([&](size_t bit) { t.excluded.push_back(movementBoard(bit)); });
+    return t;
+}
+
+// The board of positions where the cell pattern holds.
+std::string patternBoard(const CellPattern& c) {
+    PatternTerms t = termsOf(c);
+    std::string positive = t.required.empty() ? "e.inside" : joinWith(t.required, " & ");
+    if (t.required.size() > 1) positive = "(" + positive + ")";
+    if (t.excluded.empty()) return positive;
+    return "andNot(" + positive + ", " + (t.excluded.size() == 1 ? t.excluded[0] : "(" + joinWith(t.excluded, " | ") + ")") + ")";
+}
+
+// Whether the cell pattern holds at position `pos` of the current board.
+std::string patternAt(const CellPattern& c, const std::string& pos) {
+    std::vector<std::string> tests;
+    PatternTerms t = termsOf(c);
+    if (t.required.empty()) tests.push_back("e.inside.test(" + pos + ")");
+    for (const auto& r : t.required) tests.push_back(r + ".test(" + pos + ")");
+    for (const auto& x : t.excluded) tests.push_back("!" + x + ".test(" + pos + ")");
+    return joinWith(tests, " && ");
+}
+
+// ---- rows
+
+bool isVertical(int direction) { return direction == ir::kUp || direction == ir::kDown; }
+
+std::string stepExpr(int direction) {
+    switch (direction) {
+        case ir::kDown: return "1";
+        case ir::kUp: return "-1";
+        case ir::kRight: return "(e.height + 1)";
+        case ir::kLeft: return "-(e.height + 1)";
+        default: return "0";
+    }
+}
+
+std::string offset(const std::string& base, const std::string& terms) {
+    return terms.empty() ? base : base + " + d * (" + terms + ")";
+}
+
+// Where the cells of a row sit, given the row's start and gaps.
+struct RowLayout {
+    int index = 0;
+    const std::vector<CellPattern>* cells = nullptr;
+    std::vector<size_t> ellipses;  // cell indices of the ellipses (0, 1 or 2)
+
+    std::string start() const { return fmt::format("s{}", index); }
+    std::string gap(int which) const { return fmt::format("k{}{}", index, which == 0 ? "a" : "b"); }
+    // Position of cell i (not an ellipsis).
+    std::string position(size_t i) const {
+        if (ellipses.empty() || i < ellipses[0]) return offset(start(), i == 0 ? "" : std::to_string(i));
+        if (ellipses.size() == 1 || i < ellipses[1]) return offset(start(), gap(0) + " + " + std::to_string(i - 1));
+        return offset(start(), gap(0) + " + " + gap(1) + " + " + std::to_string(i - 2));
+    }
+    size_t nonEllipsisCount() const { return cells->size() - ellipses.size(); }
+};
+
+RowLayout layoutOf(const Rule& rule, size_t r) {
+    RowLayout row;
+    row.index = static_cast<int>(r);
+    row.cells = &rule.rows[r];
+    for (size_t i = 0; i < rule.rows[r].size(); ++i) {
+        if (rule.rows[r][i].ellipsis) row.ellipses.push_back(i);
+    }
+    return row;
+}
+
+// Emits the boards each row needs, computed before anything is applied:
+// rowN (positions where the cells before the first ellipsis match) and, for
+// rows with ellipses, rowN_cI for each later cell.
+void emitRowBoards(CodeWriter& out, const RowLayout& row) {
+    const auto& cells = *row.cells;
+    const size_t prefixEnd = row.ellipses.empty() ? cells.size() : row.ellipses[0];
+    std::vector<std::string> terms;
+    for (size_t i = 0; i < prefixEnd; ++i) {
+        std::string b = patternBoard(cells[i]);
+        terms.push_back(i == 0 ? b : fmt::format("shiftBy({}, {} * d)", b, i));
+    }
+    out.line(fmt::format("const Board row{} = {};", row.index, joinWith(terms, " & ")));
+    for (size_t i = prefixEnd; i < cells.size(); ++i) {
+        if (cells[i].ellipsis) continue;
+        out.line(fmt::format("const Board row{}_c{} = {};", row.index, i, patternBoard(cells[i])));
+    }
+}
+
+std::string gapLimit(int direction, const RowLayout& row) {
+    const int len = static_cast<int>(row.nonEllipsisCount());
+    const std::string x = fmt::format("(s{} / (e.height + 1))", row.index);
+    const std::string y = fmt::format("(s{} % (e.height + 1))", row.index);
+    switch (direction) {
+        case ir::kDown: return fmt::format("e.height - ({} + {}) + 1", y, len);
+        case ir::kUp: return fmt::format("{} - {} + 2", y, len);
+        case ir::kRight: return fmt::format("e.width - ({} + {}) + 1", x, len);
+        default: return fmt::format("{} - {} + 2", x, len);
+    }
+}
+
+// Tests of the cells from `first` to `last` (exclusive) against the row's saved boards.
+std::string savedCellTests(const RowLayout& row, size_t first, size_t last) {
+    std::vector<std::string> tests;
+    for (size_t i = first; i < last; ++i) {
+        if ((*row.cells)[i].ellipsis) continue;
+        tests.push_back(fmt::format("row{}_c{}.test({})", row.index, i, row.position(i)));
+    }
+    return joinWith(tests, " && ");
+}
+
+// Emits the loops over one row's matches in scan order; `body` emits what
+// happens for each (the next row's loops, or the action).
+template <typename Body>
+void emitRowLoops(CodeWriter& out, const Rule& rule, const RowLayout& row, Body body) {
+    out.open(isVertical(rule.direction) ? fmt::format("PSC_FOR_VERTICAL(row{0}, s{0})", row.index)
+                                        : fmt::format("PSC_FOR_HORIZONTAL(e, row{0}, s{0})", row.index));
+    if (!row.ellipses.empty()) {
+        const auto& cells = *row.cells;
+        out.line(fmt::format("const int kmax{} = {};", row.index, gapLimit(rule.direction, row)));
+        const size_t secondEnd = row.ellipses.size() == 2 ? row.ellipses[1] : cells.size();
+        out.open(fmt::format("for (int {0} = 0; {0} < kmax{1}; ++{0})", row.gap(0), row.index));
+        std::string middle = savedCellTests(row, row.ellipses[0] + 1, secondEnd);
+        if (!middle.empty()) out.line("if (!(" + middle + ")) continue;");
+        if (row.ellipses.size() == 2) {
+            out.open(fmt::format("for (int {0} = 0; {1} + {0} < kmax{2} && {0} < kmax{2}; ++{0})", row.gap(1), row.gap(0),
+                                 row.index));
+            std::string last = savedCellTests(row, row.ellipses[1] + 1, cells.size());
+            if (!last.empty()) out.line("if (!(" + last + ")) continue;");
+            body();
+            out.close();
+        } else {
+            body();
+        }
+        out.close();
+    } else {
+        body();
+    }
+    out.close();
+}
+
+// Whether row r still matches at its start (and gaps) on the current board.
+std::string recheck(const RowLayout& row) {
+    std::vector<std::string> tests;
+    for (size_t i = 0; i < row.cells->size(); ++i) {
+        const CellPattern& c = (*row.cells)[i];
+        if (c.ellipsis) continue;
+        tests.push_back("(" + patternAt(c, row.position(i)) + ")");
+    }
+    return joinWith(tests, " && ");
+}
+
+// ---- replacements
+
+// Object changes, layer by layer: a layer cleared as a whole (keeping at
+// most the one object set on it) is one call of its layer helper.
+void emitObjectUpdates(CodeWriter& out, const Game& g, const BitSet& set, const BitSet& clear) {
+    BitSet handled(static_cast<size_t>(g.objectCount));
+    for (size_t L = 0; L < g.layerMasks.size(); ++L) {
+        const BitSet& layer = g.layerMasks[L];
+        if (layer.none() || !layer.subsetOf(clear)) continue;
+        BitSet setHere = set;
+        setHere &= layer;
+        if (setHere.count() > 1) continue;
+        const std::vector<int> kept = setHere.bits();
+        out.line(fmt::format("ch |= putLayer{}(e, p, {});", L, kept.empty() ? std::string("-1") : std::to_string(kept[0])));
+        handled |= layer;
+    }
+    clear.forEach([&](size_t id) {
+        if (!set.test(id) && !handled.test(id)) out.line(fmt::format("ch |= e.obj[{}].assign(p, false);", id));
+    });
+    set.forEach([&](size_t id) {
+        if (!handled.test(id)) out.line(fmt::format("ch |= e.obj[{}].assign(p, true);", id));
+    });
+}
+
+void emitMovementUpdates(CodeWriter& out, const Game& g, const ir::Replacement& r, std::optional<int> entityLayer) {
+    for (int L = 0; L < g.layerCount; ++L) {
+        const bool randomDir = r.randomDirMask.test(static_cast<size_t>(5 * L));
+        unsigned set = r.movementsSet.field(L);
+        unsigned clear = r.movementsClear.field(L) | r.movementsLayerMask.field(L) | (entityLayer == L ? 31u : 0u);
+        clear &= ~set;
+        if (randomDir) {
+            out.line(fmt::format("ch |= putMovement(e, p, {}, {}u, {}u | (1u << rd{}));", L, clear, set, L));
+        } else if (set || clear) {
+            out.line(fmt::format("ch |= putMovement(e, p, {}, {}u, {}u);", L, clear, set));
+        }
+    }
+}
+
+void emitRigidClaim(CodeWriter& out, const Game& g, const Rule& rule, const ir::Replacement& r) {
+    auto it = g.groupNumberToRigidGroupIndex.find(rule.groupNumber);
+    if (it == g.groupNumberToRigidGroupIndex.end()) return;
+    const int claim = it->second + 1;
+    std::vector<int> layers;
+    for (int L = 0; L < g.layerCount; ++L) {
+        if (r.movementsLayerMask.field(L)) layers.push_back(L);
+    }
+    if (layers.empty()) return;
+    std::vector<std::string> groupMissing;
+    std::vector<std::string> appliedMissing;
+    std::vector<std::string> claims;
+    for (int L : layers) {
+        for (int k = 0; k < 5; ++k) {
+            if (!((claim >> k) & 1)) continue;
+            groupMissing.push_back(fmt::format("!t.rigidGroup[{}].test(p)", 5 * L + k));
+            claims.push_back(fmt::format("t.rigidGroup[{}].set(p);", 5 * L + k));
+        }
+        appliedMissing.push_back(fmt::format("!t.rigidApplied[{}].test(p)", L));
+        claims.push_back(fmt::format("t.rigidApplied[{}].set(p);", L));
+    }
+    if (groupMissing.empty()) return;
+    out.open(fmt::format("if (({}) && ({}))", joinWith(groupMissing, " || "), joinWith(appliedMissing, " || ")));
+    for (const auto& c : claims) out.line(c);
+    out.line("ch = true;");
+    out.close();
+}
+
+int layerOfObject(const Game& g, int id) {
+    if (id < 0 || id >= g.objectCount) return -1;
+    const ir::Object& o = g.objects[static_cast<size_t>(id)];
+    if (o.layer) return *o.layer;
+    if (o.liveId) return g.objects[static_cast<size_t>(*o.liveId)].layer.value_or(-1);
+    return -1;
+}
+
+void emitReplacement(CodeWriter& out, const Game& g, const Rule& rule, const CellPattern& cell, const std::string& pos) {
+    const ir::Replacement& r = *cell.replacement;
+    out.open("");
+    out.line("const int p = " + pos + ";");
+    const std::vector<int> candidates = r.randomEntity.bits();
+    if (!candidates.empty()) out.line(fmt::format("const int pick = e.rng.below({});", candidates.size()));
+    for (int L = 0; L < g.layerCount; ++L) {
+        if (r.randomDirMask.test(static_cast<size_t>(5 * L))) out.line(fmt::format("const int rd{} = e.rng.below(4);", L));
+    }
+    out.line("bool ch = false;");
+    if (candidates.empty()) {
+        emitObjectUpdates(out, g, r.set, r.clear);
+        emitMovementUpdates(out, g, r, std::nullopt);
+    } else {
+        out.open("switch (pick)");
+        for (size_t i = 0; i < candidates.size(); ++i) {
+            const int id = candidates[i];
+            const int layer = layerOfObject(g, id);
+            BitSet set = r.set;
+            BitSet clear = r.clear;
+            set.set(static_cast<size_t>(id));
+            if (layer >= 0) clear |= g.layerMasks[static_cast<size_t>(layer)];
+            out.open(fmt::format("case {}:", i));
+            out.line(fmt::format("// {}", g.objects[static_cast<size_t>(id)].name));
+            emitObjectUpdates(out, g, set, clear);
+            emitMovementUpdates(out, g, r, layer >= 0 ? std::optional<int>(layer) : std::nullopt);
+            out.line("break;");
+            out.close();
+        }
+        out.close();
+    }
+    if (rule.rigid) emitRigidClaim(out, g, rule, r);
+    out.line("changed |= ch;");
+    out.close();
+}
+
+void emitApplyRow(CodeWriter& out, const Game& g, const Rule& rule, const RowLayout& row) {
+    for (size_t i = 0; i < row.cells->size(); ++i) {
+        const CellPattern& c = (*row.cells)[i];
+        if (c.ellipsis || !c.replacement) continue;
+        emitReplacement(out, g, rule, c, row.position(i));
+    }
+}
+
+uint32_t commandBits(const Rule& rule) {
+    uint32_t bits = 0;
+    for (const auto& c : rule.commands) {
+        if (c.name == "cancel") bits |= 1u << 0;
+        else if (c.name == "again") bits |= 1u << 1;
+        else if (c.name == "win") bits |= 1u << 2;
+        else if (c.name == "restart") bits |= 1u << 3;
+        else if (c.name == "checkpoint") bits |= 1u << 4;
+        else if (c.name == "message") bits |= 1u << 5;
+        else if (c.name.rfind("sfx", 0) == 0) bits |= 1u << (6 + std::stoi(c.name.substr(3)));
+    }
+    return bits;
+}
+
+// ---- whole rules
+
+struct RuleNames {
+    std::string apply;  // tryApply
+    std::string count;  // number of candidate matches (random groups)
+    std::string nth;    // apply the n-th candidate (random groups)
+};
+
+// Emits the nested loops over all rows (last row outermost, so that row 0
+// varies fastest) around `action`.
+template <typename Action>
+void emitTupleLoops(CodeWriter& out, const Rule& rule, Action action) {
+    std::vector<RowLayout> rows;
+    for (size_t r = 0; r < rule.rows.size(); ++r) rows.push_back(layoutOf(rule, r));
+    std::function<void(int)> nest = [&](int r) {
+        if (r < 0) {
+            action(rows);
+            return;
+        }
+        emitRowLoops(out, rule, rows[static_cast<size_t>(r)], [&] { nest(r - 1); });
+    };
+    nest(static_cast<int>(rows.size()) - 1);
+}
+
+// The rule's step, its rows' boards, and an early return (of `noMatch`) when a row cannot match.
+void emitRowSetup(CodeWriter& out, const Rule& rule, const std::string& noMatch) {
+    out.line("const int d = " + stepExpr(rule.direction) + ";");
+    out.line("(void)d;");
+    for (size_t r = 0; r < rule.rows.size(); ++r) emitRowBoards(out, layoutOf(rule, r));
+    std::vector<std::string> empty;
+    for (size_t r = 0; r < rule.rows.size(); ++r) empty.push_back(fmt::format("!row{}.any()", r));
+    out.line("if (" + joinWith(empty, " || ") + ") return " + noMatch + ";");
+}
+
+bool hasEllipsis(const Rule& rule) {
+    for (const auto& row : rule.rows) {
+        for (const auto& c : row) {
+            if (c.ellipsis) return true;
+        }
+    }
+    return false;
+}
+
+void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames& names, bool inRandomGroup) {
+    out.line("// line " + std::to_string(rule.line) + ": " + ir::ruleText(g, rule));
+    const uint32_t commands = commandBits(rule);
+    if (!inRandomGroup) {
+        out.open("PSC_DEVICE bool " + names.apply + "(Env& e, Turn& t)");
+        out.line("(void)t;");
+        emitRowSetup(out, rule, "false");
+        out.line("bool changed = false;");
+        if (rule.hasReplacements) {
+            out.line("bool first = true;");
+            emitTupleLoops(out, rule, [&](const std::vector<RowLayout>& rows) {
+                std::vector<std::string> checks;
+                for (const auto& row : rows) checks.push_back(recheck(row));
+                out.line("if (!first && !(" + joinWith(checks, " && ") + ")) continue;");
+                out.line("first = false;");
+                for (const auto& row : rows) emitApplyRow(out, g, rule, row);
+            });
+            if (commands) out.line(fmt::format("if (!first) e.queue = queueCommands(e.queue, {}u);", commands));
+        } else {
+            if (!hasEllipsis(rule)) {
+                if (commands) out.line(fmt::format("e.queue = queueCommands(e.queue, {}u);", commands));
+            } else {
+                out.line("bool matched = false;");
+                emitTupleLoops(out, rule, [&](const std::vector<RowLayout>&) { out.line("matched = true;"); });
+                if (commands) out.line(fmt::format("if (matched) e.queue = queueCommands(e.queue, {}u);", commands));
+            }
+        }
+        out.line("return changed;");
+        out.close();
+        out.line();
+        return;
+    }
+
+    // In a random group: count the candidates, and apply the n-th.
+    out.open("PSC_DEVICE long long " + names.count + "(const Env& e)");
+    emitRowSetup(out, rule, "0");
+    if (!hasEllipsis(rule)) {
+        std::vector<std::string> counts;
+        for (size_t r = 0; r < rule.rows.size(); ++r) counts.push_back(fmt::format("static_cast<long long>(row{}.count())", r));
+        out.line("return " + joinWith(counts, " * ") + ";");
+    } else {
+        out.line("long long n = 0;");
+        emitTupleLoops(out, rule, [&](const std::vector<RowLayout>&) { out.line("++n;"); });
+        out.line("return n;");
+    }
+    out.close();
+    out.line();
+
+    out.open("PSC_DEVICE bool " + names.nth + "(Env& e, Turn& t, long long n)");
+    out.line("(void)t;");
+    emitRowSetup(out, rule, "false");
+    out.line("bool changed = false;");
+    out.line("long long index = 0;");
+    emitTupleLoops(out, rule, [&](const std::vector<RowLayout>& rows) {
+        out.open("if (index++ == n)");
+        for (const auto& row : rows) emitApplyRow(out, g, rule, row);
+        out.close();
+    });
+    if (commands) out.line(fmt::format("e.queue = queueCommands(e.queue, {}u);", commands));
+    out.line("return changed;");
+    out.close();
+    out.line();
+}
+
+std::string groupName(const ir::RuleGroup& group, size_t index, bool late) {
+    return fmt::format("{}group_{}_L{}", late ? "late_" : "", index, group.groupNumber);
+}
+
+void emitGroup(CodeWriter& out, const Game& g, const ir::RuleGroup& group, size_t index, bool late,
+               std::set<std::string>& used) {
+    std::vector<RuleNames> names;
+    for (const auto& rule : group.rules) {
+        std::string base = uniqueIdentifier(ruleIdentifier(g, rule, late), used);
+        names.push_back({base, base + "_count", base + "_apply_nth"});
+        emitRule(out, g, rule, names.back(), group.random);
+    }
+    const std::string name = groupName(group, index, late);
+    if (!group.random) {
+        out.line(fmt::format("// group {} (line {}): passes over its rules until one changes nothing, at most 200",
+                             index, group.groupNumber));
+        out.open("PSC_DEVICE bool " + name + "(Env& e, Turn& t)");
+        out.line("bool changed = false;");
+        out.open("for (int pass = 0; pass < 200; ++pass)");
+        out.line("bool any = false;");
+        for (const auto& n : names) out.line("any |= " + n.apply + "(e, t);");
+        out.line("if (!any) break;");
+        out.line("changed = true;");
+        out.close();
+        out.line("return changed;");
+        out.close();
+        out.line();
+        return;
+    }
+    out.line(fmt::format("// group {} (line {}): random, applies one match drawn from all its rules' matches", index,
+                         group.groupNumber));
+    out.open("PSC_DEVICE bool " + name + "(Env& e, Turn& t)");
+    out.line(fmt::format("long long counts[{}];", names.size()));
+    out.line("long long total = 0;");
+    for (size_t i = 0; i < names.size(); ++i) {
+        out.line(fmt::format("counts[{}] = {}(e);", i, names[i].count));
+        out.line(fmt::format("total += counts[{}];", i));
+    }
+    out.line("if (total == 0) return false;");
+    out.line("long long pick = static_cast<long long>(e.rng.uniform() * static_cast<double>(total));");
+    for (size_t i = 0; i < names.size(); ++i) {
+        out.line(fmt::format("if (pick < counts[{}]) return {}(e, t, pick);", i, names[i].nth));
+        out.line(fmt::format("pick -= counts[{}];", i));
+    }
+    out.line("return false;");
+    out.close();
+    out.line();
+}
+
+void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGroup>& groups,
+                    const std::map<int, int>& loops, bool late) {
+    const std::string fn = late ? "applyLateRules" : "applyEarlyRules";
+    out.line(late ? "// Late rules, in order (with their loops)." : "// The rules, in order (with their loops and rigid bans).");
+    out.open("PSC_DEVICE void " + fn + "(Env& e, Turn& t)");
+    out.line("(void)e;");
+    out.line("(void)t;");
+    auto call = [&](size_t i) {
+        std::string c = groupName(groups[i], i, late) + "(e, t)";
+        if (!late) {
+            auto it = g.groupIndexToRigidGroupIndex.find(static_cast<int>(i));
+            if (it != g.groupIndexToRigidGroupIndex.end()) {
+                return fmt::format("(((t.banned >> {}) & 1u) == 0 && {})", it->second, c);
+            }
+        }
+        return c;
+    };
+    if (loops.empty()) {
+        for (size_t i = 0; i < groups.size(); ++i) out.line(call(i) + ";");
+    } else {
+        out.line("int i = 0;");
+        out.line("bool propagated = false;");
+        out.line("int jumps = 0;");
+        out.open(fmt::format("while (i < {})", groups.size()));
+        out.line("bool ran = false;");
+        out.open("switch (i)");
+        for (size_t i = 0; i < groups.size(); ++i) out.line(fmt::format("case {}: ran = {}; break;", i, call(i)));
+        out.close();
+        out.line("propagated = ran || propagated;");
+        std::vector<std::string> cases;
+        for (const auto& [from, to] : loops) cases.push_back(fmt::format("i == {} ? {}", from, to));
+        out.line("const int loopTo = " + joinWith(cases, " : ") + " : -1;");
+        out.open("if (propagated && loopTo >= 0)");
+        out.line("i = loopTo;");
+        out.line("propagated = false;");
+        out.line("if (++jumps > 200) break;");
+        out.line("continue;");
+        out.close();
+        out.line("++i;");
+        out.close();
+    }
+    out.close();
+    out.line();
+}
+
+}  // namespace
+
+void emitRules(CodeWriter& out, const Game& game) {
+    std::set<std::string> used;
+    for (size_t i = 0; i < game.rules.size(); ++i) emitGroup(out, game, game.rules[i], i, false, used);
+    for (size_t i = 0; i < game.lateRules.size(); ++i) emitGroup(out, game, game.lateRules[i], i, true, used);
+    emitApplyRules(out, game, game.rules, game.loopPoints, false);
+    emitApplyRules(out, game, game.lateRules, game.lateLoopPoints, true);
+}
+
+}  // namespace psc::codegen

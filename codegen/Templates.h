@@ -1,0 +1,17 @@
+// The fixed parts of generated code (the files in templates/ and the plugin
+// ABI header), embedded into psc at build time.
+#pragma once
+
+#include <string>
+
+namespace psc::codegen::templates {
+
+const std::string& core();          // templates/core.h
+const std::string& movement();      // templates/movement.h
+const std::string& engine();        // templates/engine.h
+const std::string& hostPrelude();   // templates/host_prelude.h
+const std::string& hostNoCuda();    // templates/host_nocuda.h
+const std::string& host();          // templates/host.h
+const std::string& pluginHeader();  // runtime/psc_plugin.h
+
+}  // namespace psc::codegen::templates

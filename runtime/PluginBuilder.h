@@ -1,0 +1,30 @@
+// Building a plugin from generated source with the system C++ compiler,
+// cached by content hash (source, compiler and flags).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace psc {
+
+struct BuildOptions {
+    std::string compiler;            // default: $CXX or c++
+    std::string optimization = "-O2";
+    bool native = false;             // -march=native (faster, not portable)
+    std::string cacheDir;            // default: $PSC_CACHE_DIR, else $XDG_CACHE_HOME/psc, else ~/.cache/psc
+    bool verbose = false;            // print the compile command
+};
+
+struct BuildResult {
+    bool ok = false;
+    bool cached = false;
+    std::string pluginPath;  // in the cache
+    std::string command;
+    std::string log;         // the compiler's output on failure
+    double seconds = 0;
+};
+
+BuildResult buildCpuPlugin(const std::string& source, const BuildOptions& options);
+std::string defaultCacheDir();
+
+}  // namespace psc

@@ -1,0 +1,167 @@
+/* psc plugin ABI, version 1.
+ *
+ * Every plugin psc builds (`psc game.txt -o game.so`) exports these C
+ * functions.  A plugin simulates one PuzzleScript game for a batch of
+ * environments, exactly as the reference engine would, on the CPU (and on a
+ * CUDA device when built with --target cuda or all).
+ *
+ * Conventions:
+ *  - Levels are numbered from 0 over the playable levels; message entries are
+ *    not counted.  Only psc_reset_entry takes an entry index of the game's
+ *    LEVELS section, message entries included (as the corpus' traces do).
+ *  - Actions: 0 up, 1 left, 2 down, 3 right, 4 action, 5 undo, 6 restart,
+ *    7 tick (a turn with no input).  One step is one action followed by every
+ *    `again` turn it triggers.
+ *  - Every function returns PSC_OK or an error code; psc_last_error() then
+ *    says what went wrong, in words.
+ *  - Observations are multi-hot object planes, uint8, shape
+ *    (num_envs, channels, max_height, max_width); channel c is the object
+ *    game_info.object_names[c]; cells outside a smaller level are 0.
+ */
+#ifndef PSC_PLUGIN_H
+#define PSC_PLUGIN_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define PSC_ABI_VERSION 1
+
+typedef enum psc_status {
+    PSC_OK = 0,
+    PSC_ERROR_NULL_POINTER = 1,
+    PSC_ERROR_ABI_VERSION = 2,
+    PSC_ERROR_BAD_ARGUMENT = 3,
+    PSC_ERROR_BAD_ENV = 4,
+    PSC_ERROR_BAD_LEVEL = 5,
+    PSC_ERROR_BAD_ACTION = 6,
+    PSC_ERROR_BAD_STATE = 7,
+    PSC_ERROR_BUFFER_TOO_SMALL = 8,
+    PSC_ERROR_BACKEND_UNAVAILABLE = 9,
+    PSC_ERROR_OUT_OF_MEMORY = 10,
+    PSC_ERROR_DEVICE = 11
+} psc_status;
+
+typedef enum psc_backend { PSC_BACKEND_CPU = 0, PSC_BACKEND_CUDA = 1 } psc_backend;
+
+typedef enum psc_action {
+    PSC_ACTION_UP = 0,
+    PSC_ACTION_LEFT = 1,
+    PSC_ACTION_DOWN = 2,
+    PSC_ACTION_RIGHT = 3,
+    PSC_ACTION_ACTION = 4,
+    PSC_ACTION_UNDO = 5,
+    PSC_ACTION_RESTART = 6,
+    PSC_ACTION_TICK = 7,
+    PSC_ACTION_COUNT = 8
+} psc_action;
+
+/* Prelude flags of the game (game_info.flags). */
+enum {
+    PSC_FLAG_NOACTION = 1u << 0,
+    PSC_FLAG_NOUNDO = 1u << 1,
+    PSC_FLAG_NORESTART = 1u << 2,
+    PSC_FLAG_REQUIRE_PLAYER_MOVEMENT = 1u << 3,
+    PSC_FLAG_RUN_RULES_ON_LEVEL_START = 1u << 4,
+    PSC_FLAG_REALTIME = 1u << 5,
+    PSC_FLAG_USES_RANDOM = 1u << 6,
+    PSC_FLAG_HAS_RIGID = 1u << 7
+};
+
+typedef struct psc_game_info {
+    uint32_t abi_version;
+    const char* title;
+    const char* author;
+    const char* homepage;
+    const char* source_name;   /* the file psc compiled */
+    const char* source_sha1;   /* sha1 of the game text */
+    const char* generator;     /* psc version and build options */
+    uint32_t flags;            /* PSC_FLAG_* */
+    uint32_t backends;         /* bit PSC_BACKEND_* set for each backend built in */
+
+    int32_t object_count;              /* observation channels */
+    const char* const* object_names;   /* lower case, in channel order */
+    const int32_t* object_layers;      /* collision layer of each channel */
+    int32_t layer_count;
+
+    int32_t level_count;               /* playable levels */
+    const int32_t* level_entries;      /* entry index of each level */
+    const int32_t* level_widths;
+    const int32_t* level_heights;
+    int32_t max_width;                 /* observation plane size */
+    int32_t max_height;
+
+    int32_t entry_count;               /* LEVELS entries, messages included */
+    const uint8_t* entry_is_message;
+    const char* const* entry_messages; /* message text, or "" for levels */
+
+    int32_t action_count;              /* PSC_ACTION_COUNT */
+    double realtime_interval;          /* seconds, 0 when none */
+} psc_game_info;
+
+typedef struct psc_batch psc_batch;
+
+typedef struct psc_batch_options {
+    uint32_t struct_size;      /* sizeof(psc_batch_options) */
+    int32_t backend;           /* psc_backend */
+    int32_t num_envs;
+    int32_t threads;           /* CPU worker threads; 0 = one per core */
+    int32_t undo_depth;        /* undo entries kept per environment; 0 disables undo */
+    int32_t auto_reset;        /* 1: a win ends the episode and the environment restarts its level;
+                                  0: play on as the reference engine does (next level, messages, title) */
+    int32_t max_episode_steps; /* with auto_reset: truncate episodes after this many steps; 0 = never */
+    int32_t device;            /* CUDA device ordinal */
+} psc_batch_options;
+
+/* Step results for one environment. */
+typedef struct psc_step_result {
+    float reward;         /* 1 for each level won in the step */
+    uint8_t terminated;   /* auto_reset: the level was won; otherwise: the game was completed */
+    uint8_t truncated;    /* auto_reset: max_episode_steps reached */
+    uint8_t won;          /* a level was won in this step */
+    uint8_t cut_off;      /* an endless `again` chain was cut off */
+    int32_t episode_steps;
+} psc_step_result;
+
+uint32_t psc_abi_version(void);
+const psc_game_info* psc_get_game_info(void);
+/* The message of the last failed call on this thread. */
+const char* psc_last_error(void);
+
+int psc_batch_create(const psc_batch_options* options, psc_batch** batch);
+void psc_batch_destroy(psc_batch* batch);
+int psc_batch_size(const psc_batch* batch, int32_t* num_envs);
+
+/* Reset environments env_ids[i] to playable level levels[i] with seed
+ * seeds[i] (the random stream of a level load is seeded with the seed's
+ * decimal digits).  env_ids may be NULL: then count must be num_envs and
+ * environment i gets levels[i] and seeds[i]. */
+int psc_reset(psc_batch* batch, const int32_t* env_ids, int32_t count, const int32_t* levels, const uint64_t* seeds);
+/* Reset one environment to LEVELS entry `entry` (message entries counted),
+ * seeding every level load with the string `seed` (UTF-8), as the corpus
+ * harness does. */
+int psc_reset_entry(psc_batch* batch, int32_t env, int32_t entry, const char* seed);
+/* One action per environment; results may be NULL. */
+int psc_step(psc_batch* batch, const int32_t* actions, psc_step_result* results);
+/* Observations of all environments: num_envs * object_count * max_height * max_width bytes. */
+int psc_observe(psc_batch* batch, uint8_t* observations, size_t size);
+
+/* Saving and restoring one environment (undo history included). */
+size_t psc_state_size(const psc_batch* batch);
+int psc_save_state(const psc_batch* batch, int32_t env, void* buffer, size_t size);
+int psc_load_state(psc_batch* batch, int32_t env, const void* buffer, size_t size);
+
+/* The environment's state as a JSON record in the corpus' form: level,
+ * screen, message, won, width, height, palette, rows.  *needed receives the
+ * size (with the terminating NUL); the call fails with
+ * PSC_ERROR_BUFFER_TOO_SMALL when size is smaller. */
+int psc_dump_state(const psc_batch* batch, int32_t env, char* buffer, size_t size, size_t* needed);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PSC_PLUGIN_H */

@@ -1,0 +1,283 @@
+// ---- psc template: core types -------------------------------------------
+// Bitboards, the RC4 random stream, and the state of one environment.  This
+// text is part of every generated game source; it follows the game's
+// constants (namespace psc_game) and precedes its rules.  It compiles as C++17
+// for the CPU and, unchanged, under NVRTC/nvcc for CUDA.
+//
+// Cells are numbered column-major with one guard row per column:
+// position = x * (H + 1) + y.  Guard positions hold nothing, so a run of cells
+// that leaves the level meets a guard (or the end of the board) and never
+// matches; scanning positions in increasing order visits cells in the
+// reference engine's own order (x-major, then y).
+
+#if defined(__CUDACC__) || defined(__CUDACC_RTC__)
+#define PSC_DEVICE __host__ __device__
+#define PSC_INLINE __forceinline__
+#define PSC_TABLE __device__ const
+#else
+#define PSC_DEVICE
+#define PSC_INLINE inline
+#define PSC_TABLE static const
+#endif
+
+namespace psc_game {
+
+typedef unsigned long long u64;
+typedef unsigned int u32;
+typedef unsigned short u16;
+typedef unsigned char u8;
+
+PSC_DEVICE PSC_INLINE int lowestBit(u64 x) {
+#if defined(__CUDA_ARCH__)
+    return __ffsll(static_cast<long long>(x)) - 1;
+#else
+    return __builtin_ctzll(x);
+#endif
+}
+
+PSC_DEVICE PSC_INLINE int popcount(u64 x) {
+#if defined(__CUDA_ARCH__)
+    return __popcll(x);
+#else
+    return __builtin_popcountll(x);
+#endif
+}
+
+// One bit per cell position.
+struct Board {
+    u64 w[kWords];
+
+    PSC_DEVICE PSC_INLINE static Board zero() {
+        Board b;
+        for (int i = 0; i < kWords; ++i) b.w[i] = 0;
+        return b;
+    }
+    PSC_DEVICE PSC_INLINE bool any() const {
+        u64 a = 0;
+        for (int i = 0; i < kWords; ++i) a |= w[i];
+        return a != 0;
+    }
+    PSC_DEVICE PSC_INLINE bool test(int p) const { return (w[p >> 6] >> (p & 63)) & 1u; }
+    PSC_DEVICE PSC_INLINE void set(int p) { w[p >> 6] |= 1ull << (p & 63); }
+    PSC_DEVICE PSC_INLINE void clear(int p) { w[p >> 6] &= ~(1ull << (p & 63)); }
+    // Sets bit p to v; returns whether it changed.
+    PSC_DEVICE PSC_INLINE bool assign(int p, bool v) {
+        const u64 m = 1ull << (p & 63);
+        const u64 old = w[p >> 6];
+        const u64 now = v ? (old | m) : (old & ~m);
+        w[p >> 6] = now;
+        return now != old;
+    }
+    PSC_DEVICE PSC_INLINE int count() const {
+        int n = 0;
+        for (int i = 0; i < kWords; ++i) n += popcount(w[i]);
+        return n;
+    }
+    PSC_DEVICE PSC_INLINE bool operator==(const Board& o) const {
+        u64 d = 0;
+        for (int i = 0; i < kWords; ++i) d |= w[i] ^ o.w[i];
+        return d == 0;
+    }
+};
+
+PSC_DEVICE PSC_INLINE Board operator&(const Board& a, const Board& b) {
+    Board r;
+    for (int i = 0; i < kWords; ++i) r.w[i] = a.w[i] & b.w[i];
+    return r;
+}
+PSC_DEVICE PSC_INLINE Board operator|(const Board& a, const Board& b) {
+    Board r;
+    for (int i = 0; i < kWords; ++i) r.w[i] = a.w[i] | b.w[i];
+    return r;
+}
+PSC_DEVICE PSC_INLINE Board andNot(const Board& a, const Board& b) {
+    Board r;
+    for (int i = 0; i < kWords; ++i) r.w[i] = a.w[i] & ~b.w[i];
+    return r;
+}
+// Bit p of the result is bit p + n of b (cells n positions further on).
+PSC_DEVICE PSC_INLINE Board shiftDown(const Board& b, int n) {
+    if (kWords == 1) {
+        Board r;
+        r.w[0] = n < 64 ? b.w[0] >> n : 0;
+        return r;
+    }
+    Board r = Board::zero();
+    const int words = n >> 6;
+    const int bits = n & 63;
+    for (int i = 0; i + words < kWords; ++i) {
+        u64 v = b.w[i + words] >> bits;
+        if (bits && i + words + 1 < kWords) v |= b.w[i + words + 1] << (64 - bits);
+        r.w[i] = v;
+    }
+    return r;
+}
+// Bit p of the result is bit p - n of b.
+PSC_DEVICE PSC_INLINE Board shiftUp(const Board& b, int n) {
+    if (kWords == 1) {
+        Board r;
+        r.w[0] = n < 64 ? b.w[0] << n : 0;
+        return r;
+    }
+    Board r = Board::zero();
+    const int words = n >> 6;
+    const int bits = n & 63;
+    for (int i = kWords - 1; i - words >= 0; --i) {
+        u64 v = b.w[i - words] << bits;
+        if (bits && i - words - 1 >= 0) v |= b.w[i - words - 1] >> (64 - bits);
+        r.w[i] = v;
+    }
+    return r;
+}
+// Cells d positions apart in a row of a rule: d = +-1 (vertical) or +-(H+1).
+PSC_DEVICE PSC_INLINE Board shiftBy(const Board& b, int d) { return d >= 0 ? shiftDown(b, d) : shiftUp(b, -d); }
+
+// The RC4-based generator of the reference engine, seeded from a string.
+struct Rng {
+    u8 s[256];
+    u8 i;
+    u8 j;
+
+    // Key bytes: each UTF-16 code unit of the seed, big-endian, as few bytes as possible.
+    PSC_DEVICE void seed(const u16* units, int length) {
+        for (int k = 0; k < 256; ++k) s[k] = static_cast<u8>(k);
+        i = 0;
+        j = 0;
+        if (length == 0) return;  // an empty seed leaves the identity permutation
+        u8 key[512];
+        int keyLength = 0;
+        for (int k = 0; k < length && keyLength < 510; ++k) {
+            const u16 c = units[k];
+            if (c > 0xFF) key[keyLength++] = static_cast<u8>(c >> 8);
+            key[keyLength++] = static_cast<u8>(c & 0xFF);
+        }
+        int jj = 0;
+        for (int k = 0; k < 256; ++k) {
+            jj = (jj + s[k] + key[k % keyLength]) & 255;
+            const u8 t = s[k];
+            s[k] = s[jj];
+            s[jj] = t;
+        }
+    }
+    PSC_DEVICE PSC_INLINE u8 nextByte() {
+        i = static_cast<u8>(i + 1);
+        j = static_cast<u8>(j + s[i]);
+        const u8 t = s[i];
+        s[i] = s[j];
+        s[j] = t;
+        return s[static_cast<u8>(s[i] + s[j])];
+    }
+    // Seven bytes accumulated in a double, divided by 2^56 (the reference's
+    // divisor 2^56-1 rounds to 2^56 as a double).
+    PSC_DEVICE double uniform() {
+        double out = 0;
+        for (int k = 0; k < 7; ++k) {
+            out *= 256.0;
+            out += static_cast<double>(nextByte());
+        }
+        return out / 72057594037927936.0;
+    }
+    PSC_DEVICE PSC_INLINE int below(int n) { return static_cast<int>(uniform() * static_cast<double>(n)); }
+};
+
+// Commands queued by rules during a turn.
+enum Command : u32 {
+    kCmdCancel = 1u << 0,
+    kCmdAgain = 1u << 1,
+    kCmdWin = 1u << 2,
+    kCmdRestart = 1u << 3,
+    kCmdCheckpoint = 1u << 4,
+    kCmdMessage = 1u << 5,
+    kCmdSfxFirst = 6,  // sfx0..sfx10 are bits 6..16
+};
+
+// Screens, as the reference harness reports them.
+enum Screen : u8 { kScreenLevel = 0, kScreenMessage = 1, kScreenTitle = 2 };
+
+// A saved level buffer (undo entries, the restart target): objects only.
+struct Snapshot {
+    Board obj[kObjects];
+};
+
+// One environment: the level buffer and everything the reference engine
+// keeps between inputs.
+struct Env {
+    Board obj[kObjects];
+    Board mov[kLayers * 5];  // movement of layer L toward direction k: mov[5 * L + k]
+    Board inside;            // positions inside the level (not guards)
+    Board rowStart;          // positions with y == 0 (for row-major scans)
+    short width;
+    short height;
+    short entry;             // the level entry shown (message entries counted)
+    u8 titleScreen;
+    u8 textMode;
+    u8 againing;
+    u8 startExisted;         // the entry the environment started at exists
+    u8 stopOnWin;            // episodes end at a win (no level change)
+    u8 restarting;           // a restart is in progress (nested restarts are ignored)
+    u16 wins;                // levels won since the counter was last reset
+    u32 queue;               // commands queued this turn
+    Snapshot restartTarget;
+#if PSC_USES_RANDOM
+    Rng rng;
+    u16 seed[kSeedUnits];    // the level seed (UTF-16 code units), reused at every level load
+    u8 seedLength;
+#endif
+};
+
+// Storage for one environment's undo history, outside Env so that its depth
+// can be chosen per batch (zero disables undo).
+struct UndoStack {
+    Snapshot* entries;
+    int capacity;
+    int count;
+    int head;  // index of the oldest entry
+};
+
+// What a turn keeps while it runs (the reference's turn-local variables).
+struct Turn {
+#if PSC_HAS_RIGID
+    Board rigidGroup[kLayers * 5];  // per layer, the claiming rigid group's index + 1, bit by bit
+    Board rigidApplied[kLayers];    // per layer, claimed by a rigid rule
+#endif
+    u64 banned;  // banned rigid groups, by rigid index (bit 63: a ban that names no group)
+};
+
+PSC_DEVICE PSC_INLINE int positionOf(const Env& e, int x, int y) { return x * (e.height + 1) + y; }
+
+// Sets movement bits `set` and clears bits `clear` (set wins) of layer
+// `layer`'s field at p; returns whether anything changed.
+PSC_DEVICE PSC_INLINE bool putMovement(Env& e, int p, int layer, u32 clear, u32 set) {
+    bool ch = false;
+    for (int k = 0; k < 5; ++k) {
+        if ((set >> k) & 1u) ch |= e.mov[5 * layer + k].assign(p, true);
+        else if ((clear >> k) & 1u) ch |= e.mov[5 * layer + k].assign(p, false);
+    }
+    return ch;
+}
+
+// Sets the level size and the masks derived from it.
+PSC_DEVICE void setGeometry(Env& e, int width, int height) {
+    e.width = static_cast<short>(width);
+    e.height = static_cast<short>(height);
+    e.inside = Board::zero();
+    e.rowStart = Board::zero();
+    for (int x = 0; x < width; ++x) {
+        e.rowStart.set(x * (height + 1));
+        for (int y = 0; y < height; ++y) e.inside.set(x * (height + 1) + y);
+    }
+}
+
+// Loops over the set positions s of board m in the order a vertical rule
+// scans (column-major: increasing position), and a horizontal rule scans
+// (row-major: row by row, x increasing).  `continue` moves to the next position.
+#define PSC_FOR_VERTICAL(m, s)                                                       \
+    for (int s##_w = 0; s##_w < kWords; ++s##_w)                                     \
+        for (u64 s##_bits = (m).w[s##_w]; s##_bits; s##_bits &= s##_bits - 1)         \
+            for (int s = s##_w * 64 + lowestBit(s##_bits), s##_once = 1; s##_once; s##_once = 0)
+#define PSC_FOR_HORIZONTAL(e, m, s)                                                  \
+    for (int s##_y = 0; s##_y < (e).height; ++s##_y)                                 \
+        for (Board s##_row = (m) & shiftUp((e).rowStart, s##_y); s##_row.any(); s##_row = Board::zero()) \
+            PSC_FOR_VERTICAL(s##_row, s)
+
+}  // namespace psc_game

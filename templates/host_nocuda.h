@@ -1,0 +1,13 @@
+// ---- psc template: no CUDA backend ---------------------------------------
+// This plugin was built for the CPU only; CUDA batches are refused.
+
+struct psc_batch;
+
+static int psc_cuda_batch_create(const psc_batch_options*, psc_batch**) {
+    return psc_game::fail(PSC_ERROR_BACKEND_UNAVAILABLE, "this plugin was built without the CUDA backend (psc --target cuda)");
+}
+static bool psc_cuda_batch_destroy(psc_batch*) { return false; }
+static bool psc_cuda_owns(const psc_batch*) { return false; }
+static int psc_cuda_reset(psc_batch*, const int32_t*, int32_t, const int32_t*, const uint64_t*) { return PSC_ERROR_BACKEND_UNAVAILABLE; }
+static int psc_cuda_step(psc_batch*, const int32_t*, psc_step_result*) { return PSC_ERROR_BACKEND_UNAVAILABLE; }
+static int psc_cuda_observe(psc_batch*, uint8_t*, size_t) { return PSC_ERROR_BACKEND_UNAVAILABLE; }

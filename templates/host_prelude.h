@@ -1,0 +1,24 @@
+// ---- psc template: host code shared by the plugin's backends -------------
+
+#include <algorithm>
+#include <condition_variable>
+#include <cstring>
+#include <functional>
+#include <mutex>
+#include <new>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace psc_game {
+namespace {
+
+thread_local std::string lastError;
+
+int fail(int status, std::string message) {
+    lastError = std::move(message);
+    return status;
+}
+
+}  // namespace
+}  // namespace psc_game

@@ -1,0 +1,141 @@
+// ---- psc template: movement resolution ------------------------------------
+// Moves objects as their layers' movements say, cell by cell in the
+// reference's index order and layer by layer, repeating until a pass moves
+// nothing; then checks rigid claims against the movements left over and
+// clears all movements.  Returns true when a rigid group was newly banned
+// (the turn then starts over).  (Reference: engine.js resolveMovements,
+// repositionEntitiesAtCell, repositionEntitiesOnLayer.)
+
+namespace psc_game {
+
+PSC_DEVICE PSC_INLINE bool layerOccupied(const Env& e, int layer, int p) {
+    for (int i = kLayerObjectStart[layer]; i < kLayerObjectStart[layer + 1]; ++i) {
+        if (e.obj[kLayerObjects[i]].test(p)) return true;
+    }
+    return false;
+}
+
+// How many movement-sound declarations of this layer name an object present
+// in the cell.  The reference re-reads the cell's movements once per such
+// declaration into a ring of three buffers, so every third read reloads the
+// movement being resolved (see docs/architecture.md, "engine quirks").
+PSC_DEVICE PSC_INLINE int soundReads(const Env& e, int layer, int p) {
+    int reads = 0;
+    for (int i = kMoveSoundStart[layer]; i < kMoveSoundStart[layer + 1]; ++i) {
+        if (e.obj[kMoveSoundObjects[i]].test(p)) ++reads;
+    }
+    return reads;
+}
+
+// Tries to move layer `layer` of the cell at p by `field` (one direction bit);
+// adds the sound reads it makes to *reads.
+PSC_DEVICE bool moveLayer(Env& e, int p, int layer, int field, int* reads) {
+    int dx = 0;
+    int dy = 0;
+    switch (field) {
+        case 1: dy = -1; break;
+        case 2: dy = 1; break;
+        case 4: dx = -1; break;
+        case 8: dx = 1; break;
+        case 3: case 15: case 16: break;
+        default: return false;  // the reference throws on other combinations
+    }
+    const int column = e.height + 1;
+    const int x = p / column;
+    const int y = p % column;
+    if ((x == 0 && dx < 0) || (x == e.width - 1 && dx > 0) || (y == 0 && dy < 0) || (y == e.height - 1 && dy > 0)) {
+        return false;
+    }
+    const int target = p + dy + dx * column;
+    if (field != 16 && layerOccupied(e, layer, target)) return false;
+    *reads += soundReads(e, layer, p);
+    for (int i = kLayerObjectStart[layer]; i < kLayerObjectStart[layer + 1]; ++i) {
+        Board& b = e.obj[kLayerObjects[i]];
+        if (b.test(p)) {
+            b.clear(p);
+            b.set(target);
+        }
+    }
+    return true;
+}
+
+PSC_DEVICE PSC_INLINE u8 movementField(const Env& e, int layer, int p) {
+    u8 f = 0;
+    for (int k = 0; k < 5; ++k) f |= static_cast<u8>(e.mov[5 * layer + k].test(p)) << k;
+    return f;
+}
+
+PSC_DEVICE bool repositionCell(Env& e, int p) {
+    u8 stored[kLayers];
+    u8 fields[kLayers];
+    for (int L = 0; L < kLayers; ++L) stored[L] = fields[L] = movementField(e, L, p);
+    bool moved = false;
+    int reads = 0;
+    for (int L = 0; L < kLayers; ++L) {
+        const int f = fields[L];
+        if (f == 0) continue;
+        const int before = reads;
+        if (moveLayer(e, p, L, f, &reads)) {
+            if (reads / 3 > before / 3) {
+                for (int k = 0; k < kLayers; ++k) fields[k] = stored[k];
+            }
+            fields[L] = static_cast<u8>(fields[L] & ~f);
+            moved = true;
+        }
+    }
+    for (int L = 0; L < kLayers; ++L) {
+        for (int k = 0; k < 5; ++k) e.mov[5 * L + k].assign(p, (fields[L] >> k) & 1);
+    }
+    return moved;
+}
+
+PSC_DEVICE PSC_INLINE Board movingCells(const Env& e) {
+    Board any = Board::zero();
+    for (int m = 0; m < kLayers * 5; ++m) any = any | e.mov[m];
+    return any;
+}
+
+PSC_DEVICE bool resolveMovements(Env& e, Turn& t) {
+    bool moved = true;
+    while (moved) {
+        moved = false;
+        const Board cells = movingCells(e);
+        for (int w = 0; w < kWords; ++w) {
+            u64 bits = cells.w[w];
+            while (bits) {
+                const int p = w * 64 + lowestBit(bits);
+                bits &= bits - 1;
+                if (repositionCell(e, p)) moved = true;
+            }
+        }
+    }
+    bool banned = false;
+#if PSC_HAS_RIGID
+    const Board left = movingCells(e);
+    for (int w = 0; w < kWords; ++w) {
+        u64 bits = left.w[w];
+        while (bits) {
+            const int p = w * 64 + lowestBit(bits);
+            bits &= bits - 1;
+            for (int L = 0; L < kLayers; ++L) {
+                if (movementField(e, L, p) == 0 || !t.rigidApplied[L].test(p)) continue;
+                int claim = 0;
+                for (int k = 0; k < 5; ++k) claim |= static_cast<int>(t.rigidGroup[5 * L + k].test(p)) << k;
+                const int rigidIndex = claim - 1;
+                const int bit = (rigidIndex >= 0 && rigidIndex < kRigidGroupCount) ? rigidIndex : 63;
+                if (!((t.banned >> bit) & 1)) {
+                    t.banned |= 1ull << bit;
+                    banned = true;
+                }
+                break;
+            }
+        }
+    }
+#else
+    (void)t;
+#endif
+    for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
+    return banned;
+}
+
+}  // namespace psc_game
