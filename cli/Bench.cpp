@@ -9,21 +9,6 @@
 #include "SourceFile.h"
 
 namespace psc::cli {
-namespace {
-
-// A small, fast generator for the benchmark's random actions.
-struct SplitMix {
-    uint64_t state;
-    uint64_t next() {
-        uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-};
-
-}  // namespace
-
 int runBench(const BenchOptions& o) {
     if (o.backend != "cpu") {
         fmt::print(stderr, "psc bench: backend {} is not available in this build\n", o.backend);
@@ -44,25 +29,21 @@ int runBench(const BenchOptions& o) {
         fmt::print(stderr, "psc bench: level {} out of range [0, {})\n", o.level, info.level_count);
         return 2;
     }
-    const int actionCount = (info.flags & PSC_FLAG_NOACTION) ? 4 : 5;
     try {
         psc_batch_options bo = defaultBatchOptions();
         bo.num_envs = o.batch;
         bo.threads = o.threads;
-        bo.auto_reset = 1;
+        bo.auto_reset = PSC_AUTO_RESET_SAME_STEP;
         Batch batch(*plugin, bo);
         std::vector<int32_t> levels(static_cast<size_t>(o.batch), o.level);
         std::vector<uint64_t> seeds(static_cast<size_t>(o.batch));
         for (int i = 0; i < o.batch; ++i) seeds[static_cast<size_t>(i)] = static_cast<uint64_t>(i);
         batch.check(plugin->reset(batch.get(), nullptr, o.batch, levels.data(), seeds.data()), "reset");
-        std::vector<int32_t> actions(static_cast<size_t>(o.batch));
-        SplitMix rng{12345};
+        uint64_t seed = 12345;
         auto run = [&]() {
             const auto start = std::chrono::steady_clock::now();
-            for (int s = 0; s < o.steps; ++s) {
-                for (auto& a : actions) a = static_cast<int32_t>(rng.next() % static_cast<uint64_t>(actionCount));
-                batch.check(plugin->step(batch.get(), actions.data(), nullptr), "step");
-            }
+            psc_rollout_stats stats{};
+            batch.check(plugin->rollout(batch.get(), o.steps, seed++, &stats), "rollout");
             return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         };
         for (int w = 0; w < o.warmup; ++w) run();

@@ -37,9 +37,15 @@ std::unique_ptr<Plugin> Plugin::open(const std::string& path, std::string* error
     PSC_LOAD(saveState, psc_save_state);
     PSC_LOAD(loadState, psc_load_state);
     PSC_LOAD(dumpState, psc_dump_state);
+    PSC_LOAD(getBuffers, psc_get_buffers);
+    PSC_LOAD(stepBuffers, psc_step_buffers);
+    PSC_LOAD(setStream, psc_set_stream);
+    PSC_LOAD(synchronize, psc_synchronize);
+    PSC_LOAD(rollout, psc_rollout);
 #undef PSC_LOAD
     if (!info || !p->lastError || !p->batchCreate || !p->batchDestroy || !p->reset || !p->resetEntry || !p->step ||
-        !p->observe || !p->stateSize || !p->saveState || !p->loadState || !p->dumpState) {
+        !p->observe || !p->stateSize || !p->saveState || !p->loadState || !p->dumpState || !p->getBuffers ||
+        !p->stepBuffers || !p->setStream || !p->synchronize || !p->rollout) {
         *error = path + " lacks functions of the psc plugin ABI";
         return nullptr;
     }

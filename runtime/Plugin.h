@@ -30,6 +30,11 @@ public:
     decltype(&psc_save_state) saveState = nullptr;
     decltype(&psc_load_state) loadState = nullptr;
     decltype(&psc_dump_state) dumpState = nullptr;
+    decltype(&psc_get_buffers) getBuffers = nullptr;
+    decltype(&psc_step_buffers) stepBuffers = nullptr;
+    decltype(&psc_set_stream) setStream = nullptr;
+    decltype(&psc_synchronize) synchronize = nullptr;
+    decltype(&psc_rollout) rollout = nullptr;
 
 private:
     Plugin() = default;

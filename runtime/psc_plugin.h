@@ -47,6 +47,14 @@ typedef enum psc_status {
 
 typedef enum psc_backend { PSC_BACKEND_CPU = 0, PSC_BACKEND_CUDA = 1 } psc_backend;
 
+/* What happens when an episode ends (a win, or max_episode_steps). */
+typedef enum psc_auto_reset {
+    PSC_AUTO_RESET_OFF = 0,       /* play on as the reference engine does: next level, messages, title */
+    PSC_AUTO_RESET_SAME_STEP = 1, /* the ending step restarts the level; its observation is the new start */
+    PSC_AUTO_RESET_NEXT_STEP = 2  /* the ending step shows the final state; the next step restarts the level
+                                     (its action is ignored), as Gymnasium's NEXT_STEP mode */
+} psc_auto_reset;
+
 typedef enum psc_action {
     PSC_ACTION_UP = 0,
     PSC_ACTION_LEFT = 1,
@@ -110,8 +118,7 @@ typedef struct psc_batch_options {
     int32_t num_envs;
     int32_t threads;           /* CPU worker threads; 0 = one per core */
     int32_t undo_depth;        /* undo entries kept per environment; 0 disables undo */
-    int32_t auto_reset;        /* 1: a win ends the episode and the environment restarts its level;
-                                  0: play on as the reference engine does (next level, messages, title) */
+    int32_t auto_reset;        /* psc_auto_reset */
     int32_t max_episode_steps; /* with auto_reset: truncate episodes after this many steps; 0 = never */
     int32_t device;            /* CUDA device ordinal */
 } psc_batch_options;
@@ -148,6 +155,41 @@ int psc_reset_entry(psc_batch* batch, int32_t env, int32_t entry, const char* se
 int psc_step(psc_batch* batch, const int32_t* actions, psc_step_result* results);
 /* Observations of all environments: num_envs * object_count * max_height * max_width bytes. */
 int psc_observe(psc_batch* batch, uint8_t* observations, size_t size);
+
+/* Buffers owned by the batch, for stepping without copies: host memory for
+ * CPU batches, device memory for CUDA batches (device says which).  The
+ * caller writes actions, calls psc_step_buffers, and reads the rest. */
+typedef struct psc_buffers {
+    int32_t device;          /* -1: host memory; otherwise the CUDA device ordinal */
+    int32_t num_envs;
+    int32_t* actions;        /* [num_envs] */
+    uint8_t* observations;   /* [num_envs][object_count][max_height][max_width] */
+    float* rewards;          /* [num_envs] */
+    uint8_t* terminated;     /* [num_envs] */
+    uint8_t* truncated;      /* [num_envs] */
+    uint8_t* won;            /* [num_envs] */
+    int32_t* episode_steps;  /* [num_envs] */
+} psc_buffers;
+
+int psc_get_buffers(psc_batch* batch, psc_buffers* buffers);
+/* One step of every environment with buffers.actions; fills the result
+ * buffers and the observations.  CUDA batches queue it on their stream. */
+int psc_step_buffers(psc_batch* batch);
+/* CUDA batches: queue work on this stream (a cudaStream_t; NULL = default). */
+int psc_set_stream(psc_batch* batch, void* stream);
+/* Waits for the batch's queued work. */
+int psc_synchronize(psc_batch* batch);
+
+/* Runs `steps` steps of every environment with uniformly random actions
+ * (among the game's directions, plus action unless noaction), auto-resetting
+ * finished episodes, without observations: the fast path for throughput.
+ * Random actions come from a counter-based generator keyed by `seed`. */
+typedef struct psc_rollout_stats {
+    int64_t steps;     /* environment steps run */
+    int64_t wins;      /* levels won */
+    int64_t episodes;  /* episodes ended (won or truncated) */
+} psc_rollout_stats;
+int psc_rollout(psc_batch* batch, int32_t steps, uint64_t seed, psc_rollout_stats* stats);
 
 /* Saving and restoring one environment (undo history included). */
 size_t psc_state_size(const psc_batch* batch);

@@ -89,13 +89,21 @@ struct psc_batch {
     void* cuda = nullptr;  // the CUDA backend's batch, when this batch runs there
     int numEnvs = 0;
     int undoDepth = 0;
-    bool autoReset = false;
+    int autoReset = PSC_AUTO_RESET_OFF;
     int maxEpisodeSteps = 0;
     std::vector<psc_game::Env> envs;
     std::vector<psc_game::Snapshot> undoEntries;
     std::vector<psc_game::UndoStack> undo;
     std::vector<int32_t> levelEntry;    // the entry each environment resets to
     std::vector<int32_t> episodeSteps;
+    std::vector<uint8_t> needsReset;    // next-step auto-reset: the episode ended on the last step
+    // psc_buffers
+    std::vector<int32_t> actions;
+    std::vector<uint8_t> observations;
+    std::vector<float> rewards;
+    std::vector<uint8_t> terminated;
+    std::vector<uint8_t> truncated;
+    std::vector<uint8_t> won;
     psc_game::WorkerPool* pool = nullptr;
 };
 
@@ -134,29 +142,61 @@ std::u16string utf16(const char* utf8) {
 }
 
 void startEnv(psc_batch* b, int i) {
-    b->envs[i].stopOnWin = b->autoReset ? 1 : 0;
+    b->envs[i].stopOnWin = b->autoReset != PSC_AUTO_RESET_OFF ? 1 : 0;
     startAtEntry(b->envs[i], b->undo[i], b->levelEntry[i]);
     b->episodeSteps[i] = 0;
+    b->needsReset[i] = 0;
 }
 
-void stepEnv(psc_batch* b, int i, int action, psc_step_result* r) {
+psc_step_result stepEnv(psc_batch* b, int i, int action) {
+    psc_step_result out{};
+    if (b->needsReset[i]) {
+        startEnv(b, i);
+        return out;
+    }
     Env& e = b->envs[i];
     UndoStack& u = b->undo[i];
     e.wins = 0;
     const bool settled = applyInput(e, u, action);
-    psc_step_result out{};
     out.won = e.wins > 0;
     out.reward = static_cast<float>(e.wins);
     out.cut_off = !settled;
     out.episode_steps = ++b->episodeSteps[i];
-    if (b->autoReset) {
-        out.terminated = out.won;
-        out.truncated = !out.won && b->maxEpisodeSteps > 0 && out.episode_steps >= b->maxEpisodeSteps;
-        if (out.terminated || out.truncated) startEnv(b, i);
-    } else {
+    if (b->autoReset == PSC_AUTO_RESET_OFF) {
         out.terminated = e.titleScreen && e.startExisted;
+        return out;
     }
-    if (r) *r = out;
+    out.terminated = out.won;
+    out.truncated = !out.won && b->maxEpisodeSteps > 0 && out.episode_steps >= b->maxEpisodeSteps;
+    if (out.terminated || out.truncated) {
+        if (b->autoReset == PSC_AUTO_RESET_SAME_STEP) startEnv(b, i);
+        else b->needsReset[i] = 1;
+    }
+    return out;
+}
+
+void observeEnv(const Env& e, uint8_t* out) {
+    const size_t plane = static_cast<size_t>(kMaxWidth) * kMaxHeight;
+    std::memset(out, 0, plane * kChannelCount);
+    for (int c = 0; c < kChannelCount; ++c) {
+        const Board& board = e.obj[kChannelObject[c]];
+        for (int x = 0; x < e.width && x < kMaxWidth; ++x) {
+            for (int y = 0; y < e.height && y < kMaxHeight; ++y) {
+                out[plane * c + static_cast<size_t>(y) * kMaxWidth + x] = board.test(positionOf(e, x, y));
+            }
+        }
+    }
+}
+
+size_t observationBytes() { return static_cast<size_t>(kMaxWidth) * kMaxHeight * kChannelCount; }
+
+// A counter-based random action: the same (seed, env, step) gives the same action.
+int randomAction(uint64_t seed, uint64_t env, uint64_t step, int count) {
+    uint64_t z = seed ^ (env * 0x9E3779B97F4A7C15ull) ^ (step * 0xD1B54A32D192ED03ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return static_cast<int>((z >> 32) % static_cast<uint64_t>(count));
 }
 
 void appendJsonString(std::string& out, const char* s) {
@@ -276,13 +316,24 @@ int psc_batch_create(const psc_batch_options* options, psc_batch** batch) {
     try {
         b->numEnvs = options->num_envs;
         b->undoDepth = options->undo_depth;
-        b->autoReset = options->auto_reset != 0;
+        if (options->auto_reset < PSC_AUTO_RESET_OFF || options->auto_reset > PSC_AUTO_RESET_NEXT_STEP) {
+            delete b;
+            return fail(PSC_ERROR_BAD_ARGUMENT, "auto_reset must be 0, 1 or 2 (psc_auto_reset)");
+        }
+        b->autoReset = options->auto_reset;
         b->maxEpisodeSteps = options->max_episode_steps;
         b->envs.resize(static_cast<size_t>(b->numEnvs));
         b->undoEntries.resize(static_cast<size_t>(b->numEnvs) * static_cast<size_t>(b->undoDepth));
         b->undo.resize(static_cast<size_t>(b->numEnvs));
         b->levelEntry.assign(static_cast<size_t>(b->numEnvs), kLevelEntries[0]);
         b->episodeSteps.assign(static_cast<size_t>(b->numEnvs), 0);
+        b->needsReset.assign(static_cast<size_t>(b->numEnvs), 0);
+        b->actions.assign(static_cast<size_t>(b->numEnvs), 0);
+        b->observations.assign(static_cast<size_t>(b->numEnvs) * observationBytes(), 0);
+        b->rewards.assign(static_cast<size_t>(b->numEnvs), 0.0f);
+        b->terminated.assign(static_cast<size_t>(b->numEnvs), 0);
+        b->truncated.assign(static_cast<size_t>(b->numEnvs), 0);
+        b->won.assign(static_cast<size_t>(b->numEnvs), 0);
         for (int i = 0; i < b->numEnvs; ++i) {
             b->undo[i] = UndoStack{b->undoDepth ? &b->undoEntries[static_cast<size_t>(i) * b->undoDepth] : nullptr,
                                    b->undoDepth, 0, 0};
@@ -364,8 +415,95 @@ int psc_step(psc_batch* batch, const int32_t* actions, psc_step_result* results)
         }
     }
     batch->pool->run(batch->numEnvs, [&](int begin, int end) {
-        for (int i = begin; i < end; ++i) stepEnv(batch, i, actions[i], results ? &results[i] : nullptr);
+        for (int i = begin; i < end; ++i) {
+            const psc_step_result r = stepEnv(batch, i, actions[i]);
+            if (results) results[i] = r;
+        }
     });
+    return PSC_OK;
+}
+
+int psc_get_buffers(psc_batch* batch, psc_buffers* buffers) {
+    using namespace psc_game;
+    if (int s = checkBatch(batch)) return s;
+    if (psc_cuda_owns(batch)) return psc_cuda_get_buffers(batch, buffers);
+    if (!buffers) return fail(PSC_ERROR_NULL_POINTER, "buffers is NULL");
+    buffers->device = -1;
+    buffers->num_envs = batch->numEnvs;
+    buffers->actions = batch->actions.data();
+    buffers->observations = batch->observations.data();
+    buffers->rewards = batch->rewards.data();
+    buffers->terminated = batch->terminated.data();
+    buffers->truncated = batch->truncated.data();
+    buffers->won = batch->won.data();
+    buffers->episode_steps = batch->episodeSteps.data();
+    return PSC_OK;
+}
+
+int psc_step_buffers(psc_batch* batch) {
+    using namespace psc_game;
+    if (int s = checkBatch(batch)) return s;
+    if (psc_cuda_owns(batch)) return psc_cuda_step_buffers(batch);
+    for (int i = 0; i < batch->numEnvs; ++i) {
+        if (batch->actions[i] < 0 || batch->actions[i] >= kInputCount) {
+            return fail(PSC_ERROR_BAD_ACTION, "action " + std::to_string(batch->actions[i]) + " of environment " +
+                                                  std::to_string(i) + " out of range [0, 8)");
+        }
+    }
+    batch->pool->run(batch->numEnvs, [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+            const psc_step_result r = stepEnv(batch, i, batch->actions[i]);
+            batch->rewards[i] = r.reward;
+            batch->terminated[i] = r.terminated;
+            batch->truncated[i] = r.truncated;
+            batch->won[i] = r.won;
+            observeEnv(batch->envs[i], batch->observations.data() + observationBytes() * i);
+        }
+    });
+    return PSC_OK;
+}
+
+int psc_set_stream(psc_batch* batch, void* stream) {
+    using namespace psc_game;
+    if (int s = checkBatch(batch)) return s;
+    if (psc_cuda_owns(batch)) return psc_cuda_set_stream(batch, stream);
+    return PSC_OK;
+}
+
+int psc_synchronize(psc_batch* batch) {
+    using namespace psc_game;
+    if (int s = checkBatch(batch)) return s;
+    if (psc_cuda_owns(batch)) return psc_cuda_synchronize(batch);
+    return PSC_OK;
+}
+
+int psc_rollout(psc_batch* batch, int32_t steps, uint64_t seed, psc_rollout_stats* stats) {
+    using namespace psc_game;
+    if (int s = checkBatch(batch)) return s;
+    if (steps < 0) return fail(PSC_ERROR_BAD_ARGUMENT, "steps must not be negative");
+    if (psc_cuda_owns(batch)) return psc_cuda_rollout(batch, steps, seed, stats);
+    const int actionCount = (kGameInfo.flags & PSC_FLAG_NOACTION) ? 4 : 5;
+    std::vector<psc_rollout_stats> partial(static_cast<size_t>(batch->numEnvs));
+    batch->pool->run(batch->numEnvs, [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+            psc_rollout_stats& st = partial[static_cast<size_t>(i)];
+            st = psc_rollout_stats{0, 0, 0};
+            for (int32_t k = 0; k < steps; ++k) {
+                const psc_step_result r = stepEnv(batch, i, randomAction(seed, static_cast<uint64_t>(i), static_cast<uint64_t>(k), actionCount));
+                ++st.steps;
+                st.wins += r.won;
+                st.episodes += (r.terminated || r.truncated) ? 1 : 0;
+            }
+        }
+    });
+    if (stats) {
+        *stats = psc_rollout_stats{0, 0, 0};
+        for (const auto& p : partial) {
+            stats->steps += p.steps;
+            stats->wins += p.wins;
+            stats->episodes += p.episodes;
+        }
+    }
     return PSC_OK;
 }
 
@@ -374,25 +512,12 @@ int psc_observe(psc_batch* batch, uint8_t* observations, size_t size) {
     if (int s = checkBatch(batch)) return s;
     if (psc_cuda_owns(batch)) return psc_cuda_observe(batch, observations, size);
     if (!observations) return fail(PSC_ERROR_NULL_POINTER, "observations is NULL");
-    const size_t plane = static_cast<size_t>(kMaxWidth) * kMaxHeight;
-    const size_t perEnv = plane * kChannelCount;
+    const size_t perEnv = observationBytes();
     if (size < perEnv * batch->numEnvs) {
         return fail(PSC_ERROR_BUFFER_TOO_SMALL, "observations need " + std::to_string(perEnv * batch->numEnvs) + " bytes");
     }
     batch->pool->run(batch->numEnvs, [&](int begin, int end) {
-        for (int i = begin; i < end; ++i) {
-            const Env& e = batch->envs[i];
-            uint8_t* out = observations + perEnv * i;
-            std::memset(out, 0, perEnv);
-            for (int c = 0; c < kChannelCount; ++c) {
-                const Board& board = e.obj[kChannelObject[c]];
-                for (int x = 0; x < e.width && x < kMaxWidth; ++x) {
-                    for (int y = 0; y < e.height && y < kMaxHeight; ++y) {
-                        out[plane * c + static_cast<size_t>(y) * kMaxWidth + x] = board.test(positionOf(e, x, y));
-                    }
-                }
-            }
-        }
+        for (int i = begin; i < end; ++i) observeEnv(batch->envs[i], observations + perEnv * i);
     });
     return PSC_OK;
 }
