@@ -17,6 +17,7 @@ struct BenchOptions {
     int repeats = 5;
     int warmup = 1;
     std::string backend = "cpu";
+    bool allLevels = false;  // build every level (default: only the one measured)
     GameBuildOptions build;
 };
 

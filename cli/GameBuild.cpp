@@ -24,6 +24,7 @@ std::unique_ptr<Plugin> loadCpuPlugin(const ir::Game& game, const std::string& t
     codegen::SourceOptions so;
     so.sourceName = path;
     so.sourceSha1 = sha1Hex(text);
+    so.levels = options.levels;
     const std::string source = codegen::cpuPluginSource(game, so);
     BuildResult built = buildCpuPlugin(source, options.build);
     if (!built.ok) {

@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "Compiler.h"
 #include "Plugin.h"
@@ -15,6 +16,7 @@ struct GameBuildOptions {
     bool keepGoing = false;  // build games the reference plays despite errors
     bool quiet = false;      // no diagnostics on stderr
     BuildOptions build;
+    std::vector<int> levels;  // playable levels to build; empty: all
 };
 
 // The compiled game when it can be built; prints diagnostics as it goes.

@@ -108,6 +108,9 @@ int main(int argc, char** argv) {
     app.add_option("--target", target, "plugin backends")->check(CLI::IsMember({"cpu"}));
     app.add_flag("--verbose", verbose, "print the compiler command and cache use");
     app.add_flag("--native", native, "optimise the CPU code for this machine (-march=native)");
+    std::vector<int> buildLevels;
+    app.add_option("--levels", buildLevels, "build only these playable levels (numbered from 0); smaller plugins step faster")
+        ->delimiter(',');
     app.add_option("--format", format, "output format of --emit")->check(CLI::IsMember({"text", "json", "reference"}));
     app.add_flag("--keep-going", keepGoing, "build games that have errors but that the reference engine still plays");
 
@@ -133,6 +136,7 @@ int main(int argc, char** argv) {
     bench->add_option("--warmup", benchOptions.warmup, "untimed runs first");
     bench->add_option("--backend", benchOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
     bench->add_flag("--native", benchOptions.build.build.native, "compile for this machine (-march=native)");
+    bench->add_flag("--all-levels", benchOptions.allLevels, "build the plugin for every level, not only the one measured");
     bench->add_flag("--verbose", benchOptions.build.build.verbose, "print the compiler command and cache use");
 
     CLI11_PARSE(app, argc, argv);
@@ -153,6 +157,7 @@ int main(int argc, char** argv) {
         options.keepGoing = keepGoing;
         options.build.verbose = verbose;
         options.build.native = native;
+        options.levels = buildLevels;
         return runBuild(game, output, options);
     }
     if (format == "reference" && emit != "ir") {

@@ -67,14 +67,29 @@ std::string header(const Game& g, const SourceOptions& o) {
         g.lateRules.size(), g.levels.size(), o.sourceName);
 }
 
-void emitConstants(CodeWriter& out, const Game& g) {
+// The level size shared by every level built, or 0 when they differ.
+std::pair<int, int> fixedSize(const Game& g, const SourceOptions& o) {
+    int width = -1;
+    int height = -1;
+    for (size_t i = 0; i < g.levels.size(); ++i) {
+        if (g.levels[i].isMessage || !entryBuilt(g, o, i)) continue;
+        width = width < 0 || width == g.levels[i].width ? g.levels[i].width : 0;
+        height = height < 0 || height == g.levels[i].height ? g.levels[i].height : 0;
+    }
+    return {std::max(width, 0), std::max(height, 0)};
+}
+
+void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o) {
     out.line(fmt::format("#define PSC_USES_RANDOM {}", usesRandom(g) ? 1 : 0));
     out.line(fmt::format("#define PSC_HAS_RIGID {}", g.hasRigid ? 1 : 0));
     out.line();
     out.open("namespace psc_game");
     out.line(fmt::format("constexpr int kObjects = {};  // object ids, ghost ids included", std::max(1, g.objectCount)));
     out.line(fmt::format("constexpr int kLayers = {};", std::max(1, g.layerCount)));
-    out.line(fmt::format("constexpr int kWords = {};  // 64-bit words per bitboard (largest level)", boardWords(g)));
+    out.line(fmt::format("constexpr int kWords = {};  // 64-bit words per bitboard (largest level built)", boardWords(g, o)));
+    const auto [fixedWidth, fixedHeight] = fixedSize(g, o);
+    out.line(fmt::format("constexpr int kFixedWidth = {};   // the width of every level built, or 0", fixedWidth));
+    out.line(fmt::format("constexpr int kFixedHeight = {};  // the height of every level built, or 0", fixedHeight));
     out.line(fmt::format("constexpr int kEntries = {};  // LEVELS entries, messages included", g.levels.size()));
     out.line(fmt::format("constexpr int kRigidGroupCount = {};", g.rigidGroupIndexToGroupIndex.size()));
     out.line(fmt::format("constexpr int kWinConditionCount = {};", g.winConditions.size()));
@@ -89,7 +104,7 @@ void emitConstants(CodeWriter& out, const Game& g) {
     out.line();
 }
 
-void emitTables(CodeWriter& out, const Game& g) {
+void emitTables(CodeWriter& out, const Game& g, const SourceOptions& o) {
     out.line("// ---- the game's tables");
     out.open("namespace psc_game");
     // Objects per collision layer.
@@ -118,7 +133,7 @@ void emitTables(CodeWriter& out, const Game& g) {
     out.line("PSC_TABLE int kMoveSoundObjects[] = {" + list(soundObjects, str) + "};");
 
     // Levels: each level's object boards, at positions x * (height + 1) + y.
-    const int words = boardWords(g);
+    const int words = boardWords(g, o);
     std::vector<int> isMessage;
     std::vector<int> widths;
     std::vector<int> heights;
@@ -130,6 +145,10 @@ void emitTables(CodeWriter& out, const Game& g) {
         heights.push_back(level.height);
         if (level.isMessage) {
             offsets.push_back(-1);
+            continue;
+        }
+        if (!entryBuilt(g, o, offsets.size())) {
+            offsets.push_back(-2);  // not built (SourceOptions::levels)
             continue;
         }
         offsets.push_back(static_cast<int>(boards.size()));
@@ -284,6 +303,7 @@ void emitHostInfo(CodeWriter& out, const Game& g, const SourceOptions& o) {
     out.line("static const int kObjectNameRank[] = {" + list(rank, str) + "};");
 
     std::vector<int> levelEntries;
+    std::vector<int> levelBuilt;
     std::vector<int> levelWidths;
     std::vector<int> levelHeights;
     int maxWidth = 0;
@@ -296,6 +316,7 @@ void emitHostInfo(CodeWriter& out, const Game& g, const SourceOptions& o) {
         messages.push_back(cString(l.isMessage ? js::trim(l.message) : std::string()));
         if (l.isMessage) continue;
         levelEntries.push_back(static_cast<int>(i));
+        levelBuilt.push_back(entryBuilt(g, o, i) ? 1 : 0);
         levelWidths.push_back(l.width);
         levelHeights.push_back(l.height);
         maxWidth = std::max(maxWidth, l.width);
@@ -305,6 +326,7 @@ void emitHostInfo(CodeWriter& out, const Game& g, const SourceOptions& o) {
     out.line(fmt::format("constexpr int kMaxWidth = {};", maxWidth));
     out.line(fmt::format("constexpr int kMaxHeight = {};", maxHeight));
     out.line("static const int32_t kLevelEntries[] = {" + list(levelEntries, str) + "};");
+    out.line("static const uint8_t kLevelBuilt[] = {" + list(levelBuilt, str) + "};");
     out.line("static const int32_t kLevelWidths[] = {" + list(levelWidths, str) + "};");
     out.line("static const int32_t kLevelHeights[] = {" + list(levelHeights, str) + "};");
     out.line("static const uint8_t kHostEntryIsMessage[] = {" + list(isMessage, str) + "};");
@@ -336,7 +358,7 @@ void emitHostInfo(CodeWriter& out, const Game& g, const SourceOptions& o) {
     out.line(fmt::format("    {},", flagExpr));
     out.line(fmt::format("    {},", o.target == "cpu" ? "1u << PSC_BACKEND_CPU" : "(1u << PSC_BACKEND_CPU) | (1u << PSC_BACKEND_CUDA)"));
     out.line(fmt::format("    kChannelCount, kChannelNames, kChannelLayers, {},", g.layerCount));
-    out.line("    kLevelCount, kLevelEntries, kLevelWidths, kLevelHeights, kMaxWidth, kMaxHeight,");
+    out.line("    kLevelCount, kLevelEntries, kLevelBuilt, kLevelWidths, kLevelHeights, kMaxWidth, kMaxHeight,");
     out.line(fmt::format("    {}, kHostEntryIsMessage, kEntryMessages,", g.levels.size()));
     out.line(fmt::format("    PSC_ACTION_COUNT, {}", realtime));
     out.line("};");
@@ -346,20 +368,28 @@ void emitHostInfo(CodeWriter& out, const Game& g, const SourceOptions& o) {
 
 }  // namespace
 
-int boardWords(const ir::Game& game) {
+bool entryBuilt(const ir::Game& game, const SourceOptions& options, size_t entry) {
+    if (options.levels.empty() || game.levels[entry].isMessage) return true;
+    int level = 0;
+    for (size_t i = 0; i < entry; ++i) level += game.levels[i].isMessage ? 0 : 1;
+    return std::find(options.levels.begin(), options.levels.end(), level) != options.levels.end();
+}
+
+int boardWords(const ir::Game& game, const SourceOptions& options) {
     int words = 1;
-    for (const auto& l : game.levels) {
-        if (!l.isMessage) words = std::max(words, (l.width * (l.height + 1) + 63) / 64);
+    for (size_t i = 0; i < game.levels.size(); ++i) {
+        const auto& l = game.levels[i];
+        if (!l.isMessage && entryBuilt(game, options, i)) words = std::max(words, (l.width * (l.height + 1) + 63) / 64);
     }
     return words;
 }
 
 std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     CodeWriter out;
-    emitConstants(out, game);
+    emitConstants(out, game, options);
     out.raw(templates::core());
     out.line();
-    emitTables(out, game);
+    emitTables(out, game, options);
     emitPlayerAndWin(out, game);
     out.line("// ---- the rules");
     out.open("namespace psc_game");
@@ -371,7 +401,6 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     out.raw(templates::movement());
     out.line();
     out.raw(templates::engine());
-    (void)options;
     return out.text();
 }
 

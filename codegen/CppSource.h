@@ -8,6 +8,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "ir/Ir.h"
 
@@ -17,6 +18,10 @@ struct SourceOptions {
     std::string sourceName;  // shown in the header comment and in game info
     std::string sourceSha1;
     std::string target = "cpu";  // cpu | cuda
+    // Playable levels to build (numbered from 0); empty: all.  Bitboards are
+    // sized for the largest level built, so building only small levels makes
+    // every step cheaper.
+    std::vector<int> levels;
 };
 
 // The part that runs per environment (host and device): tables, rules, engine.
@@ -24,7 +29,9 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options);
 // The complete C++ translation unit of a CPU plugin.
 std::string cpuPluginSource(const ir::Game& game, const SourceOptions& options);
 
-// Words of 64 bits per bitboard for this game's largest level.
-int boardWords(const ir::Game& game);
+// Words of 64 bits per bitboard for the largest level built.
+int boardWords(const ir::Game& game, const SourceOptions& options);
+// Whether LEVELS entry `entry` is built (messages always are).
+bool entryBuilt(const ir::Game& game, const SourceOptions& options, size_t entry);
 
 }  // namespace psc::codegen

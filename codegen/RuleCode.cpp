@@ -72,8 +72,8 @@ std::string stepExpr(int direction) {
     switch (direction) {
         case ir::kDown: return "1";
         case ir::kUp: return "-1";
-        case ir::kRight: return "(e.height + 1)";
-        case ir::kLeft: return "-(e.height + 1)";
+        case ir::kRight: return "columnOf(e)";
+        case ir::kLeft: return "-columnOf(e)";
         default: return "0";
     }
 }
@@ -129,12 +129,12 @@ void emitRowBoards(CodeWriter& out, const RowLayout& row) {
 
 std::string gapLimit(int direction, const RowLayout& row) {
     const int len = static_cast<int>(row.nonEllipsisCount());
-    const std::string x = fmt::format("(s{} / (e.height + 1))", row.index);
-    const std::string y = fmt::format("(s{} % (e.height + 1))", row.index);
+    const std::string x = fmt::format("(s{} / columnOf(e))", row.index);
+    const std::string y = fmt::format("(s{} % columnOf(e))", row.index);
     switch (direction) {
-        case ir::kDown: return fmt::format("e.height - ({} + {}) + 1", y, len);
+        case ir::kDown: return fmt::format("heightOf(e) - ({} + {}) + 1", y, len);
         case ir::kUp: return fmt::format("{} - {} + 2", y, len);
-        case ir::kRight: return fmt::format("e.width - ({} + {}) + 1", x, len);
+        case ir::kRight: return fmt::format("widthOf(e) - ({} + {}) + 1", x, len);
         default: return fmt::format("{} - {} + 2", x, len);
     }
 }

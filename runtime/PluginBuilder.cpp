@@ -44,7 +44,7 @@ BuildResult buildCpuPlugin(const std::string& source, const BuildOptions& option
     const auto start = std::chrono::steady_clock::now();
     std::string compiler = options.compiler;
     if (compiler.empty()) compiler = std::getenv("CXX") && *std::getenv("CXX") ? std::getenv("CXX") : "c++";
-    std::string flags = "-std=c++17 " + options.optimization + " -fPIC -shared -pthread -w";
+    std::string flags = "-std=c++17 " + options.optimization + " -fPIC -shared -pthread -w -fvisibility=hidden";
     if (options.native) flags += " -march=native";
     const fs::path dir = options.cacheDir.empty() ? defaultCacheDir() : options.cacheDir;
     const std::string key = sha1Hex(compiler + "\n" + flags + "\n" + source);

@@ -30,6 +30,13 @@ extern "C" {
 
 #define PSC_ABI_VERSION 1
 
+/* Plugins are built with hidden symbols; these are the exported ones. */
+#if defined(__GNUC__)
+#define PSC_API __attribute__((visibility("default")))
+#else
+#define PSC_API
+#endif
+
 typedef enum psc_status {
     PSC_OK = 0,
     PSC_ERROR_NULL_POINTER = 1,
@@ -97,6 +104,7 @@ typedef struct psc_game_info {
 
     int32_t level_count;               /* playable levels */
     const int32_t* level_entries;      /* entry index of each level */
+    const uint8_t* level_built;        /* 0 for levels left out of this plugin (psc --levels) */
     const int32_t* level_widths;
     const int32_t* level_heights;
     int32_t max_width;                 /* observation plane size */
@@ -133,28 +141,28 @@ typedef struct psc_step_result {
     int32_t episode_steps;
 } psc_step_result;
 
-uint32_t psc_abi_version(void);
-const psc_game_info* psc_get_game_info(void);
+PSC_API uint32_t psc_abi_version(void);
+PSC_API const psc_game_info* psc_get_game_info(void);
 /* The message of the last failed call on this thread. */
-const char* psc_last_error(void);
+PSC_API const char* psc_last_error(void);
 
-int psc_batch_create(const psc_batch_options* options, psc_batch** batch);
-void psc_batch_destroy(psc_batch* batch);
-int psc_batch_size(const psc_batch* batch, int32_t* num_envs);
+PSC_API int psc_batch_create(const psc_batch_options* options, psc_batch** batch);
+PSC_API void psc_batch_destroy(psc_batch* batch);
+PSC_API int psc_batch_size(const psc_batch* batch, int32_t* num_envs);
 
 /* Reset environments env_ids[i] to playable level levels[i] with seed
  * seeds[i] (the random stream of a level load is seeded with the seed's
  * decimal digits).  env_ids may be NULL: then count must be num_envs and
  * environment i gets levels[i] and seeds[i]. */
-int psc_reset(psc_batch* batch, const int32_t* env_ids, int32_t count, const int32_t* levels, const uint64_t* seeds);
+PSC_API int psc_reset(psc_batch* batch, const int32_t* env_ids, int32_t count, const int32_t* levels, const uint64_t* seeds);
 /* Reset one environment to LEVELS entry `entry` (message entries counted),
  * seeding every level load with the string `seed` (UTF-8), as the corpus
  * harness does. */
-int psc_reset_entry(psc_batch* batch, int32_t env, int32_t entry, const char* seed);
+PSC_API int psc_reset_entry(psc_batch* batch, int32_t env, int32_t entry, const char* seed);
 /* One action per environment; results may be NULL. */
-int psc_step(psc_batch* batch, const int32_t* actions, psc_step_result* results);
+PSC_API int psc_step(psc_batch* batch, const int32_t* actions, psc_step_result* results);
 /* Observations of all environments: num_envs * object_count * max_height * max_width bytes. */
-int psc_observe(psc_batch* batch, uint8_t* observations, size_t size);
+PSC_API int psc_observe(psc_batch* batch, uint8_t* observations, size_t size);
 
 /* Buffers owned by the batch, for stepping without copies: host memory for
  * CPU batches, device memory for CUDA batches (device says which).  The
@@ -171,14 +179,14 @@ typedef struct psc_buffers {
     int32_t* episode_steps;  /* [num_envs] */
 } psc_buffers;
 
-int psc_get_buffers(psc_batch* batch, psc_buffers* buffers);
+PSC_API int psc_get_buffers(psc_batch* batch, psc_buffers* buffers);
 /* One step of every environment with buffers.actions; fills the result
  * buffers and the observations.  CUDA batches queue it on their stream. */
-int psc_step_buffers(psc_batch* batch);
+PSC_API int psc_step_buffers(psc_batch* batch);
 /* CUDA batches: queue work on this stream (a cudaStream_t; NULL = default). */
-int psc_set_stream(psc_batch* batch, void* stream);
+PSC_API int psc_set_stream(psc_batch* batch, void* stream);
 /* Waits for the batch's queued work. */
-int psc_synchronize(psc_batch* batch);
+PSC_API int psc_synchronize(psc_batch* batch);
 
 /* Runs `steps` steps of every environment with uniformly random actions
  * (among the game's directions, plus action unless noaction), auto-resetting
@@ -189,18 +197,18 @@ typedef struct psc_rollout_stats {
     int64_t wins;      /* levels won */
     int64_t episodes;  /* episodes ended (won or truncated) */
 } psc_rollout_stats;
-int psc_rollout(psc_batch* batch, int32_t steps, uint64_t seed, psc_rollout_stats* stats);
+PSC_API int psc_rollout(psc_batch* batch, int32_t steps, uint64_t seed, psc_rollout_stats* stats);
 
 /* Saving and restoring one environment (undo history included). */
-size_t psc_state_size(const psc_batch* batch);
-int psc_save_state(const psc_batch* batch, int32_t env, void* buffer, size_t size);
-int psc_load_state(psc_batch* batch, int32_t env, const void* buffer, size_t size);
+PSC_API size_t psc_state_size(const psc_batch* batch);
+PSC_API int psc_save_state(const psc_batch* batch, int32_t env, void* buffer, size_t size);
+PSC_API int psc_load_state(psc_batch* batch, int32_t env, const void* buffer, size_t size);
 
 /* The environment's state as a JSON record in the corpus' form: level,
  * screen, message, won, width, height, palette, rows.  *needed receives the
  * size (with the terminating NUL); the call fails with
  * PSC_ERROR_BUFFER_TOO_SMALL when size is smaller. */
-int psc_dump_state(const psc_batch* batch, int32_t env, char* buffer, size_t size, size_t* needed);
+PSC_API int psc_dump_state(const psc_batch* batch, int32_t env, char* buffer, size_t size, size_t* needed);
 
 #ifdef __cplusplus
 }

@@ -16,7 +16,13 @@
 #define PSC_TABLE __device__ const
 #else
 #define PSC_DEVICE
+// Forced inlining when optimising (unoptimised builds of very large games
+// compile much faster without it).
+#if defined(__OPTIMIZE__)
+#define PSC_INLINE inline __attribute__((always_inline))
+#else
 #define PSC_INLINE inline
+#endif
 #define PSC_TABLE static const
 #endif
 
@@ -214,6 +220,7 @@ struct Env {
     u8 againing;
     u8 startExisted;         // the entry the environment started at exists
     u8 stopOnWin;            // episodes end at a win (no level change)
+    u8 unavailable;          // play reached a level this plugin was built without
     u8 restarting;           // a restart is in progress (nested restarts are ignored)
     u16 wins;                // levels won since the counter was last reset
     u32 queue;               // commands queued this turn
@@ -243,7 +250,11 @@ struct Turn {
     u64 banned;  // banned rigid groups, by rigid index (bit 63: a ban that names no group)
 };
 
-PSC_DEVICE PSC_INLINE int positionOf(const Env& e, int x, int y) { return x * (e.height + 1) + y; }
+// Level size, constant when every level built has the same.
+PSC_DEVICE PSC_INLINE int widthOf(const Env& e) { return kFixedWidth ? kFixedWidth : e.width; }
+PSC_DEVICE PSC_INLINE int heightOf(const Env& e) { return kFixedHeight ? kFixedHeight : e.height; }
+PSC_DEVICE PSC_INLINE int columnOf(const Env& e) { return heightOf(e) + 1; }  // positions per column
+PSC_DEVICE PSC_INLINE int positionOf(const Env& e, int x, int y) { return x * columnOf(e) + y; }
 
 // Sets movement bits `set` and clears bits `clear` (set wins) of layer
 // `layer`'s field at p; returns whether anything changed.
@@ -276,7 +287,7 @@ PSC_DEVICE void setGeometry(Env& e, int width, int height) {
         for (u64 s##_bits = (m).w[s##_w]; s##_bits; s##_bits &= s##_bits - 1)         \
             for (int s = s##_w * 64 + lowestBit(s##_bits), s##_once = 1; s##_once; s##_once = 0)
 #define PSC_FOR_HORIZONTAL(e, m, s)                                                  \
-    for (int s##_y = 0; s##_y < (e).height; ++s##_y)                                 \
+    for (int s##_y = 0; s##_y < heightOf(e); ++s##_y)                                \
         for (Board s##_row = (m) & shiftUp((e).rowStart, s##_y); s##_row.any(); s##_row = Board::zero()) \
             PSC_FOR_VERTICAL(s##_row, s)
 

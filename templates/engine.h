@@ -122,6 +122,12 @@ PSC_DEVICE void loadEntry(Env& e, UndoStack& u) {
         e.textMode = 1;
         return;
     }
+    if (kEntryBoards[e.entry] == -2) {
+        // A level left out of this plugin (psc --levels): nothing to play.
+        e.unavailable = 1;
+        goToTitleScreen(e);
+        return;
+    }
     e.textMode = 0;
     loadLevelCells(e, e.entry);
     e.queue = 0;

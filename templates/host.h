@@ -160,7 +160,7 @@ psc_step_result stepEnv(psc_batch* b, int i, int action) {
     const bool settled = applyInput(e, u, action);
     out.won = e.wins > 0;
     out.reward = static_cast<float>(e.wins);
-    out.cut_off = !settled;
+    out.cut_off = !settled || e.unavailable;
     out.episode_steps = ++b->episodeSteps[i];
     if (b->autoReset == PSC_AUTO_RESET_OFF) {
         out.terminated = e.titleScreen && e.startExisted;
@@ -325,7 +325,9 @@ int psc_batch_create(const psc_batch_options* options, psc_batch** batch) {
         b->envs.resize(static_cast<size_t>(b->numEnvs));
         b->undoEntries.resize(static_cast<size_t>(b->numEnvs) * static_cast<size_t>(b->undoDepth));
         b->undo.resize(static_cast<size_t>(b->numEnvs));
-        b->levelEntry.assign(static_cast<size_t>(b->numEnvs), kLevelEntries[0]);
+        int firstBuilt = 0;
+        while (!kLevelBuilt[firstBuilt]) ++firstBuilt;
+        b->levelEntry.assign(static_cast<size_t>(b->numEnvs), kLevelEntries[firstBuilt]);
         b->episodeSteps.assign(static_cast<size_t>(b->numEnvs), 0);
         b->needsReset.assign(static_cast<size_t>(b->numEnvs), 0);
         b->actions.assign(static_cast<size_t>(b->numEnvs), 0);
@@ -379,6 +381,10 @@ int psc_reset(psc_batch* batch, const int32_t* env_ids, int32_t count, const int
             return fail(PSC_ERROR_BAD_LEVEL, "level " + std::to_string(levels[i]) + " out of range [0, " +
                                                  std::to_string(kLevelCount) + ")");
         }
+        if (!kLevelBuilt[levels[i]]) {
+            return fail(PSC_ERROR_BAD_LEVEL, "level " + std::to_string(levels[i]) +
+                                                 " was left out of this plugin (psc --levels)");
+        }
     }
     for (int32_t i = 0; i < count; ++i) {
         const int32_t env = env_ids ? env_ids[i] : i;
@@ -395,6 +401,9 @@ int psc_reset_entry(psc_batch* batch, int32_t env, int32_t entry, const char* se
     if (psc_cuda_owns(batch)) return fail(PSC_ERROR_BACKEND_UNAVAILABLE, "psc_reset_entry runs on CPU batches");
     if (!seed) return fail(PSC_ERROR_NULL_POINTER, "seed is NULL");
     if (entry < 0) return fail(PSC_ERROR_BAD_LEVEL, "entry must not be negative");
+    if (entry < kEntries && kEntryBoards[entry] == -2) {
+        return fail(PSC_ERROR_BAD_LEVEL, "entry " + std::to_string(entry) + " was left out of this plugin (psc --levels)");
+    }
     if (!setSeed(batch->envs[env], utf16(seed))) {
         return fail(PSC_ERROR_BAD_ARGUMENT, "the seed is longer than " + std::to_string(kSeedUnits) + " UTF-16 units");
     }

@@ -40,10 +40,10 @@ PSC_DEVICE bool moveLayer(Env& e, int p, int layer, int field, int* reads) {
         case 3: case 15: case 16: break;
         default: return false;  // the reference throws on other combinations
     }
-    const int column = e.height + 1;
+    const int column = columnOf(e);
     const int x = p / column;
     const int y = p % column;
-    if ((x == 0 && dx < 0) || (x == e.width - 1 && dx > 0) || (y == 0 && dy < 0) || (y == e.height - 1 && dy > 0)) {
+    if ((x == 0 && dx < 0) || (x == widthOf(e) - 1 && dx > 0) || (y == 0 && dy < 0) || (y == heightOf(e) - 1 && dy > 0)) {
         return false;
     }
     const int target = p + dy + dx * column;
