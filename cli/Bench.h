@@ -1,8 +1,11 @@
-// psc bench: steps/s of a game's plugin on random actions, with automatic
-// reset on a win.  Prints a table of the repeats and a line `steps/s: <median>`.
+// psc bench: steps/s of a game's plugin on random actions with automatic
+// reset on a win (the plugin's fused rollout).  Prints one row per batch size
+// (median and min of the repeats, warm-up excluded; CUDA events on the GPU)
+// and a last line `steps/s: <median of the best batch size>`.
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "GameBuild.h"
 
@@ -11,8 +14,8 @@ namespace psc::cli {
 struct BenchOptions {
     std::string gamePath;
     int level = 0;
-    int batch = 1;
-    int steps = 1000;
+    std::vector<int> batches;  // empty: 1 (cpu), or a sweep 1 ... 4M (cuda)
+    int steps = 0;             // steps per timed run; 0: chosen so that a run takes about 0.25 s
     int threads = 1;
     int repeats = 5;
     int warmup = 1;

@@ -3,6 +3,10 @@
 #include <fmt/format.h>
 
 #include "CppSource.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include "Diagnose.h"
 #include "base/Sha1.h"
 
@@ -19,13 +23,104 @@ std::optional<ir::Game> compileForBuild(const std::string& text, const std::stri
     return std::move(result.game);
 }
 
-std::unique_ptr<Plugin> loadCpuPlugin(const ir::Game& game, const std::string& text, const std::string& path,
-                                      const GameBuildOptions& options, std::string* pluginPath) {
+codegen::SourceOptions sourceOptions(const std::string& text, const std::string& path, const GameBuildOptions& options) {
     codegen::SourceOptions so;
     so.sourceName = path;
     so.sourceSha1 = sha1Hex(text);
     so.levels = options.levels;
-    const std::string source = codegen::cpuPluginSource(game, so);
+    so.target = options.target == "cpu" ? "cpu" : "cuda";
+    so.gpuState = options.gpuState;
+    return so;
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string readFile(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+void writeFile(const fs::path& p, const std::string& data) {
+    const fs::path tmp = p.string() + ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out << data;
+    }
+    std::error_code ec;
+    fs::rename(tmp, p, ec);
+}
+
+// ptxas's per-kernel lines (registers, spills, shared memory).
+void printResourceReport(const std::string& log) {
+    std::istringstream in(log);
+    for (std::string line; std::getline(in, line);) {
+        if (line.find("ptxas info") != std::string::npos || line.find("spill") != std::string::npos) {
+            fmt::print(stderr, "psc: {}\n", line);
+        }
+    }
+}
+
+}  // namespace
+
+std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const std::string& text,
+                                                   const std::string& path, const GameBuildOptions& options) {
+    const codegen::SourceOptions so = sourceOptions(text, path, options);
+    const std::string source = codegen::cudaSource(game, so);
+    const std::string key = sha1Hex(fmt::format("{}\n{}\n{}", options.cuda.compiler, options.cuda.architecture, source));
+    const fs::path dir = options.build.cacheDir.empty() ? defaultCacheDir() : options.build.cacheDir;
+    const fs::path cubinPath = dir / (key + ".cubin");
+    const fs::path ptxPath = dir / (key + ".ptx");
+    const fs::path logPath = dir / (key + ".ptxas.log");
+    std::error_code ec;
+    if (fs::exists(cubinPath, ec) && fs::exists(ptxPath, ec) && fs::exists(logPath, ec)) {
+        CudaCompileResult r;
+        r.ok = true;
+        const std::string cubin = readFile(cubinPath);
+        r.cubin.assign(cubin.begin(), cubin.end());
+        r.ptx = readFile(ptxPath);
+        r.log = readFile(logPath);
+        r.stackBytes = ptxasStackBytes(r.log);
+        if (options.build.verbose) fmt::print(stderr, "psc: CUDA code from the cache ({})\n", cubinPath.string());
+        return r;
+    }
+    if (!cudaCompilerAvailable(options.cuda.compiler)) {
+        fmt::print(stderr, "{}: error: the CUDA compiler {} is not available\n", path, options.cuda.compiler);
+        return std::nullopt;
+    }
+    CudaCompileResult r = compileCuda(source, sha1Hex(text).substr(0, 12), options.cuda);
+    if (options.build.verbose) {
+        std::string opts;
+        for (const auto& o : r.options) opts += " " + o;
+        fmt::print(stderr, "psc: {} options:{}\n", options.cuda.compiler, opts);
+        printResourceReport(r.log);
+    }
+    if (!r.ok) {
+        fmt::print(stderr, "{}: error: compiling the CUDA code failed\n{}\n", path, r.log);
+        return std::nullopt;
+    }
+    fmt::print(stderr, "psc: CUDA compile ({}) {:.2f} s\n", options.cuda.compiler, r.seconds);
+    fs::create_directories(dir, ec);
+    writeFile(cubinPath, std::string(r.cubin.begin(), r.cubin.end()));
+    writeFile(ptxPath, r.ptx);
+    writeFile(logPath, r.log);
+    return r;
+}
+
+std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text, const std::string& path,
+                                   const GameBuildOptions& options, std::string* pluginPath) {
+    const codegen::SourceOptions so = sourceOptions(text, path, options);
+    std::string source;
+    if (options.target == "cpu") {
+        source = codegen::cpuPluginSource(game, so);
+    } else {
+        auto device = compileDeviceCode(game, text, path, options);
+        if (!device) return nullptr;
+        source = codegen::cudaPluginSource(game, so, device->cubin, device->ptx, device->stackBytes);
+    }
     BuildResult built = buildCpuPlugin(source, options.build);
     if (!built.ok) {
         fmt::print(stderr, "{}: error: building the plugin failed\n{}\n{}\n", path, built.command, built.log);

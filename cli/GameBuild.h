@@ -8,6 +8,8 @@
 
 #include "Compiler.h"
 #include "Plugin.h"
+#include "CppSource.h"
+#include "CudaCompiler.h"
 #include "PluginBuilder.h"
 
 namespace psc::cli {
@@ -16,13 +18,23 @@ struct GameBuildOptions {
     bool keepGoing = false;  // build games the reference plays despite errors
     bool quiet = false;      // no diagnostics on stderr
     BuildOptions build;
-    std::vector<int> levels;  // playable levels to build; empty: all
+    std::vector<int> levels;      // playable levels to build; empty: all
+    std::string target = "cpu";   // cpu | cuda | all (cuda plugins also run on the CPU)
+    CudaCompileOptions cuda;
+    std::string gpuState = "auto";  // auto | registers | memory (codegen::SourceOptions)
 };
+
+// The code generator's options for building `text` (read from `path`).
+codegen::SourceOptions sourceOptions(const std::string& text, const std::string& path, const GameBuildOptions& options);
 
 // The compiled game when it can be built; prints diagnostics as it goes.
 std::optional<ir::Game> compileForBuild(const std::string& text, const std::string& path, const GameBuildOptions& options);
-// Builds (or finds in the cache) the CPU plugin of `game`; null on failure (reported on stderr).
-std::unique_ptr<Plugin> loadCpuPlugin(const ir::Game& game, const std::string& text, const std::string& path,
-                                      const GameBuildOptions& options, std::string* pluginPath = nullptr);
+// Builds (or finds in the cache) the plugin of `game` for options.target;
+// null on failure (reported on stderr).
+std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text, const std::string& path,
+                                   const GameBuildOptions& options, std::string* pluginPath = nullptr);
+// The game's device code compiled for CUDA (cached); nothing on failure (reported on stderr).
+std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const std::string& text,
+                                                   const std::string& path, const GameBuildOptions& options);
 
 }  // namespace psc::cli

@@ -70,10 +70,6 @@ int runReplay(const ReplayOptions& options) {
         fmt::print(stderr, "{}: error: not a JSON case: {}\n", options.casePath, e.what());
         return 2;
     }
-    if (options.backend != "cpu") {
-        fmt::print(stderr, "psc replay: backend {} is not available in this build\n", options.backend);
-        return 2;
-    }
     if (c.value("kind", "") != "trace") {
         fmt::print(stderr, "{}: error: not a trace case\n", options.casePath);
         return 2;
@@ -82,9 +78,10 @@ int runReplay(const ReplayOptions& options) {
     GameBuildOptions build = options.build;
     build.keepGoing = true;              // the reference plays games with up to five errors
     build.build.optimization = "-O0";    // short traces: compile fast rather than run fast
+    build.target = options.backend == "cuda" ? "cuda" : "cpu";
     auto compiled = compileForBuild(game, options.casePath, build);
     if (!compiled) return 2;
-    auto plugin = loadCpuPlugin(*compiled, game, options.casePath, build);
+    auto plugin = loadPlugin(*compiled, game, options.casePath, build);
     if (!plugin) return 2;
 
     std::ofstream dump;
@@ -98,6 +95,7 @@ int runReplay(const ReplayOptions& options) {
     try {
         psc_batch_options bo = defaultBatchOptions();
         bo.undo_depth = kReplayUndoDepth;
+        bo.backend = options.backend == "cuda" ? PSC_BACKEND_CUDA : PSC_BACKEND_CPU;
         Batch batch(*plugin, bo);
         const std::string seed = c.at("level_seed").get<std::string>();
         batch.check(plugin->resetEntry(batch.get(), 0, c.at("start_level").get<int>(), seed.c_str()), "starting the level");

@@ -25,13 +25,28 @@ namespace {
 
 using namespace psc;
 
-int runCheck(const std::string& path) {
+// With `cuda`, also checks that the game's generated CUDA source compiles
+// (NVRTC's front end; no GPU needed).
+int runCheck(const std::string& path, bool cuda) {
     auto source = cli::readSource(path);
     if (!source) return 1;
     CompileResult result = compileSource(*source);
     cli::printDiagnostics(stderr, path, result);
-    if (result.status == CompileStatus::Ok) return 0;
-    fmt::print(stderr, "{}: {}\n", path, cli::verdict(result));
+    if (result.status != CompileStatus::Ok) {
+        fmt::print(stderr, "{}: {}\n", path, cli::verdict(result));
+        return 1;
+    }
+    if (!cuda) return 0;
+    cli::GameBuildOptions gb;
+    gb.target = "cuda";
+    gb.cuda.syntaxOnly = true;
+    if (!cudaCompilerAvailable(gb.cuda.compiler)) {
+        fmt::print(stderr, "{}: error: NVRTC is not available\n", path);
+        return 1;
+    }
+    const CudaCompileResult r = compileCuda(codegen::cudaSource(*result.game, cli::sourceOptions(*source, path, gb)), "check", gb.cuda);
+    if (r.ok) return 0;
+    fmt::print(stderr, "{}: error: the generated CUDA source does not compile\n{}\n", path, r.log);
     return 1;
 }
 
@@ -77,7 +92,7 @@ int runBuild(const std::string& path, const std::string& output, const cli::Game
     auto game = cli::compileForBuild(*source, path, options);
     if (!game) return 1;
     std::string built;
-    auto plugin = cli::loadCpuPlugin(*game, *source, path, options, &built);
+    auto plugin = cli::loadPlugin(*game, *source, path, options, &built);
     if (!plugin) return 1;
     std::error_code ec;
     std::filesystem::copy_file(built, output, std::filesystem::copy_options::overwrite_existing, ec);
@@ -100,12 +115,20 @@ int main(int argc, char** argv) {
     bool keepGoing = false;
     app.add_option("game", game, "the PuzzleScript game to compile");
     std::string output;
-    std::string target = "cpu";
+    std::string target = cudaCompilerAvailable("nvrtc") ? "all" : "cpu";
     bool verbose = false;
     bool native = false;
-    app.add_option("--emit", emit, "print one stage and stop")->check(CLI::IsMember({"ast", "ir", "cpp"}));
+    app.add_option("--emit", emit, "print one stage and stop")->check(CLI::IsMember({"ast", "ir", "cpp", "cuda", "ptx"}));
     app.add_option("-o,--output", output, "build the plugin (a shared library) to this file");
-    app.add_option("--target", target, "plugin backends")->check(CLI::IsMember({"cpu"}));
+    std::string cudaCompiler = "nvrtc";
+    std::string gpuState = "auto";
+    int cudaArch = 90;
+    app.add_option("--target", target, "plugin backends: cpu, or cuda/all (CUDA and CPU); default all when CUDA is available")
+        ->check(CLI::IsMember({"cpu", "cuda", "all"}));
+    app.add_option("--compiler", cudaCompiler, "CUDA compiler")->check(CLI::IsMember({"nvrtc", "nvcc"}));
+    app.add_option("--arch", cudaArch, "CUDA architecture (90: sm_90, H100)");
+    app.add_option("--gpu-state", gpuState, "where the GPU keeps each environment's state")
+        ->check(CLI::IsMember({"auto", "registers", "memory"}));
     app.add_flag("--verbose", verbose, "print the compiler command and cache use");
     app.add_flag("--native", native, "optimise the CPU code for this machine (-march=native)");
     std::vector<int> buildLevels;
@@ -117,6 +140,8 @@ int main(int argc, char** argv) {
     std::string checkGame;
     CLI::App* check = app.add_subcommand("check", "report errors and warnings; exit 0 when the game compiles");
     check->add_option("game", checkGame, "the game")->required();
+    bool checkCuda = false;
+    check->add_flag("--cuda", checkCuda, "also check that the game's generated CUDA source compiles");
 
     cli::ReplayOptions replayOptions;
     CLI::App* replay = app.add_subcommand("replay", "replay a corpus trace case and compare every state with it");
@@ -129,7 +154,7 @@ int main(int argc, char** argv) {
     CLI::App* bench = app.add_subcommand("bench", "steps per second on random actions (auto-reset on win)");
     bench->add_option("game", benchOptions.gamePath, "the game")->required();
     bench->add_option("--level", benchOptions.level, "playable level, from 0");
-    bench->add_option("--batch", benchOptions.batch, "environments stepped together");
+    bench->add_option("--batch", benchOptions.batches, "environments stepped together (a comma list sweeps)")->delimiter(',');
     bench->add_option("--steps", benchOptions.steps, "steps per environment in one timed run");
     bench->add_option("--threads", benchOptions.threads, "CPU threads");
     bench->add_option("--repeats", benchOptions.repeats, "timed runs (the median is reported)");
@@ -142,7 +167,7 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     if (*bench) return cli::runBench(benchOptions);
-    if (*check) return runCheck(checkGame);
+    if (*check) return runCheck(checkGame, checkCuda);
     if (*replay) return cli::runReplay(replayOptions);
     if (game.empty()) {
         fmt::print(stderr, "{}", app.help());
@@ -158,11 +183,38 @@ int main(int argc, char** argv) {
         options.build.verbose = verbose;
         options.build.native = native;
         options.levels = buildLevels;
+        options.target = target;
+        options.cuda.compiler = cudaCompiler;
+        options.cuda.architecture = cudaArch;
+        options.cuda.verbose = verbose;
+        options.gpuState = gpuState;
         return runBuild(game, output, options);
     }
     if (format == "reference" && emit != "ir") {
         fmt::print(stderr, "psc: --format reference applies to --emit ir\n");
         return 2;
+    }
+    if (emit == "cuda" || emit == "ptx") {
+        auto source = cli::readSource(game);
+        if (!source) return 1;
+        cli::GameBuildOptions gb;
+        gb.keepGoing = keepGoing;
+        gb.levels = buildLevels;
+        gb.target = "cuda";
+        gb.cuda.compiler = cudaCompiler;
+        gb.cuda.architecture = cudaArch;
+        gb.build.verbose = verbose;
+        gb.gpuState = gpuState;
+        auto compiled = cli::compileForBuild(*source, game, gb);
+        if (!compiled) return 1;
+        if (emit == "cuda") {
+            fmt::print("{}", codegen::cudaSource(*compiled, cli::sourceOptions(*source, game, gb)));
+            return 0;
+        }
+        auto device = cli::compileDeviceCode(*compiled, *source, game, gb);
+        if (!device) return 1;
+        fmt::print("{}", device->ptx);
+        return 0;
     }
     return runEmit(game, emit, format, keepGoing);
 }

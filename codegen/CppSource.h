@@ -22,12 +22,25 @@ struct SourceOptions {
     // sized for the largest level built, so building only small levels makes
     // every step cheaper.
     std::vector<int> levels;
+    // Where the GPU keeps each environment's state: "registers", "memory"
+    // (local memory), or "auto" (chosen from the game's size; see
+    // gpuStateInRegisters and templates/core.h).
+    std::string gpuState = "auto";
 };
+
+// Whether the CUDA code keeps the state in registers, resolving "auto".
+bool gpuStateInRegisters(const ir::Game& game, const SourceOptions& options);
 
 // The part that runs per environment (host and device): tables, rules, engine.
 std::string deviceSource(const ir::Game& game, const SourceOptions& options);
 // The complete C++ translation unit of a CPU plugin.
 std::string cpuPluginSource(const ir::Game& game, const SourceOptions& options);
+// The CUDA translation unit: the device part and the kernels (for NVRTC or nvcc).
+std::string cudaSource(const ir::Game& game, const SourceOptions& options);
+// The host translation unit of a plugin with both backends; `cubin` and
+// `ptx` are the compiled cudaSource(), whose kernels need `stackBytes` of stack a thread.
+std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options, const std::vector<char>& cubin,
+                             const std::string& ptx, size_t stackBytes);
 
 // Words of 64 bits per bitboard for the largest level built.
 int boardWords(const ir::Game& game, const SourceOptions& options);

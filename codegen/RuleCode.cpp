@@ -369,7 +369,7 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
     out.line("// line " + std::to_string(rule.line) + ": " + ir::ruleText(g, rule));
     const uint32_t commands = commandBits(rule);
     if (!inRandomGroup) {
-        out.open("PSC_DEVICE bool " + names.apply + "(Env& e, Turn& t)");
+        out.open("PSC_DEVICE PSC_RULE bool " + names.apply + "(Env& e, Turn& t)");
         out.line("(void)t;");
         emitRowSetup(out, rule, "false");
         out.line("bool changed = false;");
@@ -399,7 +399,7 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
     }
 
     // In a random group: count the candidates, and apply the n-th.
-    out.open("PSC_DEVICE long long " + names.count + "(const Env& e)");
+    out.open("PSC_DEVICE PSC_RULE long long " + names.count + "(const Env& e)");
     emitRowSetup(out, rule, "0");
     if (!hasEllipsis(rule)) {
         std::vector<std::string> counts;
@@ -413,7 +413,7 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
     out.close();
     out.line();
 
-    out.open("PSC_DEVICE bool " + names.nth + "(Env& e, Turn& t, long long n)");
+    out.open("PSC_DEVICE PSC_RULE bool " + names.nth + "(Env& e, Turn& t, long long n)");
     out.line("(void)t;");
     emitRowSetup(out, rule, "false");
     out.line("bool changed = false;");
@@ -445,7 +445,7 @@ void emitGroup(CodeWriter& out, const Game& g, const ir::RuleGroup& group, size_
     if (!group.random) {
         out.line(fmt::format("// group {} (line {}): passes over its rules until one changes nothing, at most 200",
                              index, group.groupNumber));
-        out.open("PSC_DEVICE bool " + name + "(Env& e, Turn& t)");
+        out.open("PSC_DEVICE PSC_RULE bool " + name + "(Env& e, Turn& t)");
         out.line("bool changed = false;");
         out.open("for (int pass = 0; pass < 200; ++pass)");
         out.line("bool any = false;");
@@ -460,7 +460,7 @@ void emitGroup(CodeWriter& out, const Game& g, const ir::RuleGroup& group, size_
     }
     out.line(fmt::format("// group {} (line {}): random, applies one match drawn from all its rules' matches", index,
                          group.groupNumber));
-    out.open("PSC_DEVICE bool " + name + "(Env& e, Turn& t)");
+    out.open("PSC_DEVICE PSC_RULE bool " + name + "(Env& e, Turn& t)");
     out.line(fmt::format("long long counts[{}];", names.size()));
     out.line("long long total = 0;");
     for (size_t i = 0; i < names.size(); ++i) {
@@ -482,7 +482,7 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
                     const std::map<int, int>& loops, bool late) {
     const std::string fn = late ? "applyLateRules" : "applyEarlyRules";
     out.line(late ? "// Late rules, in order (with their loops)." : "// The rules, in order (with their loops and rigid bans).");
-    out.open("PSC_DEVICE void " + fn + "(Env& e, Turn& t)");
+    out.open("PSC_DEVICE PSC_RULE void " + fn + "(Env& e, Turn& t)");
     out.line("(void)e;");
     out.line("(void)t;");
     auto call = [&](size_t i) {

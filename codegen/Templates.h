@@ -12,6 +12,9 @@ const std::string& engine();        // templates/engine.h
 const std::string& hostPrelude();   // templates/host_prelude.h
 const std::string& hostNoCuda();    // templates/host_nocuda.h
 const std::string& host();          // templates/host.h
+const std::string& hostCuda();      // templates/host_cuda.h
+const std::string& hostCudaImpl();  // templates/host_cuda_impl.h
+const std::string& cudaKernels();   // templates/cuda_kernels.h
 const std::string& pluginHeader();  // runtime/psc_plugin.h
 
 }  // namespace psc::codegen::templates

@@ -116,6 +116,15 @@ typedef struct psc_game_info {
 
     int32_t action_count;              /* PSC_ACTION_COUNT */
     double realtime_interval;          /* seconds, 0 when none */
+
+    /* Graphics, for rendering: channel c's sprite is 5x5 palette indices
+     * object_sprites[c * 25 + row * 5 + column] (-1: transparent) into the
+     * colours object_colors[c * 10 + i] (0xRRGGBB).  Cells draw their objects
+     * in channel order over background_color. */
+    const int8_t* object_sprites;
+    const uint32_t* object_colors;
+    uint32_t background_color;
+    uint32_t text_color;
 } psc_game_info;
 
 typedef struct psc_batch psc_batch;
@@ -183,9 +192,18 @@ PSC_API int psc_get_buffers(psc_batch* batch, psc_buffers* buffers);
 /* One step of every environment with buffers.actions; fills the result
  * buffers and the observations.  CUDA batches queue it on their stream. */
 PSC_API int psc_step_buffers(psc_batch* batch);
+/* Runs `steps` steps: step k gives environment i the action
+ * actions[k * num_envs + i] and writes its results to rewards, terminated,
+ * truncated and won at the same index (any of them may be NULL); the final
+ * observations go to the batch's observation buffer.  Pointers are host
+ * memory for CPU batches and device memory for CUDA batches, whose work is
+ * queued on the batch's stream: there, a step with an action outside [0, 8)
+ * is skipped and the next psc_synchronize reports PSC_ERROR_BAD_ACTION. */
+PSC_API int psc_step_many(psc_batch* batch, int32_t steps, const int32_t* actions, float* rewards, uint8_t* terminated,
+                          uint8_t* truncated, uint8_t* won);
 /* CUDA batches: queue work on this stream (a cudaStream_t; NULL = default). */
 PSC_API int psc_set_stream(psc_batch* batch, void* stream);
-/* Waits for the batch's queued work. */
+/* Waits for the batch's queued work; reports invalid device actions skipped since the last call. */
 PSC_API int psc_synchronize(psc_batch* batch);
 
 /* Runs `steps` steps of every environment with uniformly random actions
@@ -199,7 +217,7 @@ typedef struct psc_rollout_stats {
 } psc_rollout_stats;
 PSC_API int psc_rollout(psc_batch* batch, int32_t steps, uint64_t seed, psc_rollout_stats* stats);
 
-/* Saving and restoring one environment (undo history included). */
+/* Saving and restoring one environment (undo history included), on either backend. */
 PSC_API size_t psc_state_size(const psc_batch* batch);
 PSC_API int psc_save_state(const psc_batch* batch, int32_t env, void* buffer, size_t size);
 PSC_API int psc_load_state(psc_batch* batch, int32_t env, const void* buffer, size_t size);

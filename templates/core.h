@@ -10,10 +10,32 @@
 // matches; scanning positions in increasing order visits cells in the
 // reference engine's own order (x-major, then y).
 
+// PSC_INLINE marks small helpers and the hot path; PSC_COLD marks the rare
+// events (level loads, restarts, undo), compiled once, out of line.
+//
+// On the GPU, code generation picks one of two state layouts per game
+// (PSC_STATE_IN_REGISTERS, set above):
+//  - registers (small games): the generated rules (PSC_RULE) and layer
+//    helpers (PSC_LAYER) are inlined into one body per kernel, so that the
+//    environment's boards are registers;
+//  - memory (large games): rules and layer helpers are compiled once each,
+//    out of line, over an environment in local memory, which keeps code size
+//    and compile time linear in the game.
+// A CPU compiler keeps large rule sets fast without forced inlining and
+// compiles them much faster.
 #if defined(__CUDACC__) || defined(__CUDACC_RTC__)
-#define PSC_DEVICE __host__ __device__
+#define PSC_DEVICE __device__
 #define PSC_INLINE __forceinline__
+#define PSC_COLD __noinline__
+#if PSC_STATE_IN_REGISTERS
+#define PSC_RULE __forceinline__
+#define PSC_LAYER __forceinline__
+#else
+#define PSC_RULE __noinline__
+#define PSC_LAYER __noinline__
+#endif
 #define PSC_TABLE __device__ const
+#define PSC_UNROLL _Pragma("unroll")
 #else
 #define PSC_DEVICE
 // Forced inlining when optimising (unoptimised builds of very large games
@@ -23,7 +45,11 @@
 #else
 #define PSC_INLINE inline
 #endif
+#define PSC_COLD __attribute__((noinline))
+#define PSC_RULE
+#define PSC_LAYER inline
 #define PSC_TABLE static const
+#define PSC_UNROLL
 #endif
 
 namespace psc_game {
@@ -49,89 +75,141 @@ PSC_DEVICE PSC_INLINE int popcount(u64 x) {
 #endif
 }
 
+// On the GPU a board indexed by a run-time word number would be moved to
+// local memory; boards of a few words select the word with a chain of
+// compares instead, which keeps them in registers.
+#if defined(__CUDA_ARCH__) && PSC_STATE_IN_REGISTERS
+constexpr bool kSelectWords = kWords > 1 && kWords <= 4;
+#else
+constexpr bool kSelectWords = false;
+#endif
+
 // One bit per cell position.
 struct Board {
     u64 w[kWords];
 
     PSC_DEVICE PSC_INLINE static Board zero() {
         Board b;
-        for (int i = 0; i < kWords; ++i) b.w[i] = 0;
+        PSC_UNROLL for (int i = 0; i < kWords; ++i) b.w[i] = 0;
         return b;
     }
     PSC_DEVICE PSC_INLINE bool any() const {
         u64 a = 0;
-        for (int i = 0; i < kWords; ++i) a |= w[i];
+        PSC_UNROLL for (int i = 0; i < kWords; ++i) a |= w[i];
         return a != 0;
     }
-    PSC_DEVICE PSC_INLINE bool test(int p) const { return (w[p >> 6] >> (p & 63)) & 1u; }
-    PSC_DEVICE PSC_INLINE void set(int p) { w[p >> 6] |= 1ull << (p & 63); }
-    PSC_DEVICE PSC_INLINE void clear(int p) { w[p >> 6] &= ~(1ull << (p & 63)); }
+    PSC_DEVICE PSC_INLINE u64 word(int i) const {
+        if (kWords == 1) return w[0];
+        if (!kSelectWords) return w[i];
+        u64 v = 0;
+        PSC_UNROLL for (int k = 0; k < kWords; ++k) v = k == i ? w[k] : v;
+        return v;
+    }
+    // Applies f to word i.
+    template <typename F>
+    PSC_DEVICE PSC_INLINE void update(int i, F f) {
+        if (kWords == 1) {
+            w[0] = f(w[0]);
+        } else if (!kSelectWords) {
+            w[i] = f(w[i]);
+        } else {
+            PSC_UNROLL for (int k = 0; k < kWords; ++k) w[k] = k == i ? f(w[k]) : w[k];
+        }
+    }
+    PSC_DEVICE PSC_INLINE bool test(int p) const { return (word(p >> 6) >> (p & 63)) & 1u; }
+    PSC_DEVICE PSC_INLINE void set(int p) {
+        const u64 m = 1ull << (p & 63);
+        update(p >> 6, [m](u64 v) { return v | m; });
+    }
+    PSC_DEVICE PSC_INLINE void clear(int p) {
+        const u64 m = 1ull << (p & 63);
+        update(p >> 6, [m](u64 v) { return v & ~m; });
+    }
     // Sets bit p to v; returns whether it changed.
     PSC_DEVICE PSC_INLINE bool assign(int p, bool v) {
-        const u64 m = 1ull << (p & 63);
-        const u64 old = w[p >> 6];
-        const u64 now = v ? (old | m) : (old & ~m);
-        w[p >> 6] = now;
-        return now != old;
+        const bool was = test(p);
+        if (v) set(p);
+        else clear(p);
+        return was != v;
+    }
+    // The lowest set position (the board must not be empty), and clearing it.
+    PSC_DEVICE PSC_INLINE int lowest() const {
+        PSC_UNROLL for (int i = 0; i < kWords - 1; ++i) {
+            if (w[i]) return i * 64 + lowestBit(w[i]);
+        }
+        return (kWords - 1) * 64 + lowestBit(w[kWords - 1]);
+    }
+    PSC_DEVICE PSC_INLINE void dropLowest() {
+        bool done = false;
+        PSC_UNROLL for (int i = 0; i < kWords; ++i) {
+            const bool here = !done && w[i] != 0;
+            w[i] = here ? w[i] & (w[i] - 1) : w[i];
+            done = done || here;
+        }
     }
     PSC_DEVICE PSC_INLINE int count() const {
         int n = 0;
-        for (int i = 0; i < kWords; ++i) n += popcount(w[i]);
+        PSC_UNROLL for (int i = 0; i < kWords; ++i) n += popcount(w[i]);
         return n;
     }
     PSC_DEVICE PSC_INLINE bool operator==(const Board& o) const {
         u64 d = 0;
-        for (int i = 0; i < kWords; ++i) d |= w[i] ^ o.w[i];
+        PSC_UNROLL for (int i = 0; i < kWords; ++i) d |= w[i] ^ o.w[i];
         return d == 0;
     }
 };
 
 PSC_DEVICE PSC_INLINE Board operator&(const Board& a, const Board& b) {
     Board r;
-    for (int i = 0; i < kWords; ++i) r.w[i] = a.w[i] & b.w[i];
+    PSC_UNROLL for (int i = 0; i < kWords; ++i) r.w[i] = a.w[i] & b.w[i];
     return r;
 }
 PSC_DEVICE PSC_INLINE Board operator|(const Board& a, const Board& b) {
     Board r;
-    for (int i = 0; i < kWords; ++i) r.w[i] = a.w[i] | b.w[i];
+    PSC_UNROLL for (int i = 0; i < kWords; ++i) r.w[i] = a.w[i] | b.w[i];
     return r;
 }
 PSC_DEVICE PSC_INLINE Board andNot(const Board& a, const Board& b) {
     Board r;
-    for (int i = 0; i < kWords; ++i) r.w[i] = a.w[i] & ~b.w[i];
+    PSC_UNROLL for (int i = 0; i < kWords; ++i) r.w[i] = a.w[i] & ~b.w[i];
     return r;
 }
+// Moves bit `from` of b to `to` (when set).
+PSC_DEVICE PSC_INLINE void moveBit(Board& b, int from, int to) {
+    const bool held = b.test(from);
+    b.clear(from);
+    if (held) b.set(to);
+}
+
 // Bit p of the result is bit p + n of b (cells n positions further on).
 PSC_DEVICE PSC_INLINE Board shiftDown(const Board& b, int n) {
+    Board r;
     if (kWords == 1) {
-        Board r;
         r.w[0] = n < 64 ? b.w[0] >> n : 0;
         return r;
     }
-    Board r = Board::zero();
     const int words = n >> 6;
     const int bits = n & 63;
-    for (int i = 0; i + words < kWords; ++i) {
-        u64 v = b.w[i + words] >> bits;
-        if (bits && i + words + 1 < kWords) v |= b.w[i + words + 1] << (64 - bits);
-        r.w[i] = v;
+    PSC_UNROLL for (int i = 0; i < kWords; ++i) {
+        const u64 lo = i + words < kWords ? b.word(i + words) : 0;
+        const u64 hi = i + words + 1 < kWords ? b.word(i + words + 1) : 0;
+        r.w[i] = (lo >> bits) | (bits ? hi << (64 - bits) : 0);
     }
     return r;
 }
 // Bit p of the result is bit p - n of b.
 PSC_DEVICE PSC_INLINE Board shiftUp(const Board& b, int n) {
+    Board r;
     if (kWords == 1) {
-        Board r;
         r.w[0] = n < 64 ? b.w[0] << n : 0;
         return r;
     }
-    Board r = Board::zero();
     const int words = n >> 6;
     const int bits = n & 63;
-    for (int i = kWords - 1; i - words >= 0; --i) {
-        u64 v = b.w[i - words] << bits;
-        if (bits && i - words - 1 >= 0) v |= b.w[i - words - 1] >> (64 - bits);
-        r.w[i] = v;
+    PSC_UNROLL for (int i = 0; i < kWords; ++i) {
+        const u64 hi = i - words >= 0 ? b.word(i - words) : 0;
+        const u64 lo = i - words - 1 >= 0 ? b.word(i - words - 1) : 0;
+        r.w[i] = (hi << bits) | (bits ? lo >> (64 - bits) : 0);
     }
     return r;
 }
@@ -145,7 +223,7 @@ struct Rng {
     u8 j;
 
     // Key bytes: each UTF-16 code unit of the seed, big-endian, as few bytes as possible.
-    PSC_DEVICE void seed(const u16* units, int length) {
+    PSC_DEVICE PSC_COLD void seed(const u16* units, int length) {
         for (int k = 0; k < 256; ++k) s[k] = static_cast<u8>(k);
         i = 0;
         j = 0;
@@ -224,6 +302,12 @@ struct Env {
     u8 restarting;           // a restart is in progress (nested restarts are ignored)
     u16 wins;                // levels won since the counter was last reset
     u32 queue;               // commands queued this turn
+    // Episode control (the batch's settings and this environment's episode).
+    int levelEntry;          // the entry the environment (re)starts at
+    int episodeSteps;
+    int maxEpisodeSteps;     // 0: no limit
+    u8 autoReset;            // psc_auto_reset
+    u8 needsReset;           // next-step auto-reset: the episode ended on the last step
     Snapshot restartTarget;
 #if PSC_USES_RANDOM
     Rng rng;
@@ -260,7 +344,7 @@ PSC_DEVICE PSC_INLINE int positionOf(const Env& e, int x, int y) { return x * co
 // `layer`'s field at p; returns whether anything changed.
 PSC_DEVICE PSC_INLINE bool putMovement(Env& e, int p, int layer, u32 clear, u32 set) {
     bool ch = false;
-    for (int k = 0; k < 5; ++k) {
+    PSC_UNROLL for (int k = 0; k < 5; ++k) {
         if ((set >> k) & 1u) ch |= e.mov[5 * layer + k].assign(p, true);
         else if ((clear >> k) & 1u) ch |= e.mov[5 * layer + k].assign(p, false);
     }
@@ -268,7 +352,7 @@ PSC_DEVICE PSC_INLINE bool putMovement(Env& e, int p, int layer, u32 clear, u32 
 }
 
 // Sets the level size and the masks derived from it.
-PSC_DEVICE void setGeometry(Env& e, int width, int height) {
+PSC_DEVICE PSC_COLD void setGeometry(Env& e, int width, int height) {
     e.width = static_cast<short>(width);
     e.height = static_cast<short>(height);
     e.inside = Board::zero();
@@ -282,13 +366,12 @@ PSC_DEVICE void setGeometry(Env& e, int width, int height) {
 // Loops over the set positions s of board m in the order a vertical rule
 // scans (column-major: increasing position), and a horizontal rule scans
 // (row-major: row by row, x increasing).  `continue` moves to the next position.
-#define PSC_FOR_VERTICAL(m, s)                                                       \
-    for (int s##_w = 0; s##_w < kWords; ++s##_w)                                     \
-        for (u64 s##_bits = (m).w[s##_w]; s##_bits; s##_bits &= s##_bits - 1)         \
-            for (int s = s##_w * 64 + lowestBit(s##_bits), s##_once = 1; s##_once; s##_once = 0)
-#define PSC_FOR_HORIZONTAL(e, m, s)                                                  \
-    for (int s##_y = 0; s##_y < heightOf(e); ++s##_y)                                \
-        for (Board s##_row = (m) & shiftUp((e).rowStart, s##_y); s##_row.any(); s##_row = Board::zero()) \
-            PSC_FOR_VERTICAL(s##_row, s)
+#define PSC_FOR_VERTICAL(m, s)                                                        \
+    for (Board s##_rest = (m); s##_rest.any(); s##_rest.dropLowest())                 \
+        for (int s = s##_rest.lowest(), s##_once = 1; s##_once; s##_once = 0)
+#define PSC_FOR_HORIZONTAL(e, m, s)                                                   \
+    for (Board s##_rows = (m), s##_mask = (e).rowStart; s##_rows.any() && s##_mask.any(); \
+         s##_rows = andNot(s##_rows, s##_mask), s##_mask = shiftUp(s##_mask, 1))        \
+        PSC_FOR_VERTICAL(s##_rows & s##_mask, s)
 
 }  // namespace psc_game

@@ -8,19 +8,35 @@
 
 namespace psc_game {
 
-PSC_DEVICE bool processInput(Env& e, UndoStack& u, int dir, bool dontDoWin, bool dontModify);
+// A turn with no input, out of line: the level-start turn of
+// run_rules_on_level_start (dontDoWin) and the again turns after it.
+PSC_DEVICE PSC_COLD void coldTurn(Env& e, UndoStack& u, bool dontDoWin);
 
 PSC_DEVICE PSC_INLINE void saveObjects(const Env& e, Snapshot& s) {
-    for (int o = 0; o < kObjects; ++o) s.obj[o] = e.obj[o];
+    PSC_UNROLL for (int o = 0; o < kObjects; ++o) s.obj[o] = e.obj[o];
 }
 PSC_DEVICE PSC_INLINE void loadObjects(Env& e, const Snapshot& s) {
-    for (int o = 0; o < kObjects; ++o) e.obj[o] = s.obj[o];
+    PSC_UNROLL for (int o = 0; o < kObjects; ++o) e.obj[o] = s.obj[o];
 }
 PSC_DEVICE PSC_INLINE bool sameObjects(const Env& e, const Snapshot& s) {
-    for (int o = 0; o < kObjects; ++o) {
-        if (!(e.obj[o] == s.obj[o])) return false;
-    }
-    return true;
+    bool same = true;
+    PSC_UNROLL for (int o = 0; o < kObjects; ++o) same = same && e.obj[o] == s.obj[o];
+    return same;
+}
+
+// Runs a rare event out of line.  With the state in registers it works on a
+// copy of the environment in memory, so that the caller's copy can stay there.
+template <typename Event>
+PSC_DEVICE PSC_INLINE void outOfLine(Env& e, UndoStack& u, Event event) {
+#if defined(__CUDA_ARCH__) && PSC_STATE_IN_REGISTERS
+    Env m = e;
+    UndoStack mu = u;
+    event(m, mu);
+    e = m;
+    u = mu;
+#else
+    event(e, u);
+#endif
 }
 
 // ---- undo history (a ring: when full, the oldest entry is dropped)
@@ -44,11 +60,7 @@ PSC_DEVICE PSC_INLINE void clearUndo(UndoStack& u) {
 // first width*height words of its movement array; with more than five layers
 // (several words per cell) that leaves some cells' movements in place.
 // Movements are only non-zero then in games whose late rules use randomdir.
-PSC_DEVICE void clearMovementsAfterRestore(Env& e) {
-    if (!kMovementsCanLinger) {
-        for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
-        return;
-    }
+PSC_DEVICE PSC_COLD void clearMovementsLingering(Env& e) {
     const int strideWords = (kLayers + 4) / 5;
     const int cells = e.width * e.height;
     for (int x = 0; x < e.width; ++x) {
@@ -62,14 +74,22 @@ PSC_DEVICE void clearMovementsAfterRestore(Env& e) {
     }
 }
 
-PSC_DEVICE void restoreLevel(Env& e, const Snapshot& s) {
+PSC_DEVICE PSC_INLINE void clearMovementsAfterRestore(Env& e) {
+    if (kMovementsCanLinger) {
+        clearMovementsLingering(e);
+        return;
+    }
+    PSC_UNROLL for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
+}
+
+PSC_DEVICE PSC_INLINE void restoreLevel(Env& e, const Snapshot& s) {
     loadObjects(e, s);
     clearMovementsAfterRestore(e);
     e.againing = 0;
     e.queue = 0;
 }
 
-PSC_DEVICE void doUndo(Env& e, UndoStack& u, bool force, bool ignoreDuplicates) {
+PSC_DEVICE PSC_COLD void doUndo(Env& e, UndoStack& u, bool force, bool ignoreDuplicates) {
     if (kNoUndo && !force) return;
     if (ignoreDuplicates) {
         while (u.count > 0 && sameObjects(e, topUndo(u))) --u.count;
@@ -81,7 +101,7 @@ PSC_DEVICE void doUndo(Env& e, UndoStack& u, bool force, bool ignoreDuplicates) 
     }
 }
 
-PSC_DEVICE void doRestart(Env& e, UndoStack& u, bool force) {
+PSC_DEVICE PSC_COLD void doRestart(Env& e, UndoStack& u, bool force) {
     if (e.restarting) return;
     if (!force && kNoRestart) return;
     if (e.againing) doUndo(e, u, force, true);
@@ -93,14 +113,14 @@ PSC_DEVICE void doRestart(Env& e, UndoStack& u, bool force) {
     }
     const Snapshot target = e.restartTarget;
     restoreLevel(e, target);
-    if (kRunRulesOnLevelStart) processInput(e, u, -1, true, false);
+    if (kRunRulesOnLevelStart) coldTurn(e, u, true);
     e.queue = 0;
     e.restarting = 0;
 }
 
 // ---- levels
 
-PSC_DEVICE void goToTitleScreen(Env& e) {
+PSC_DEVICE PSC_INLINE void goToTitleScreen(Env& e) {
     e.againing = 0;
     e.titleScreen = 1;
     e.textMode = 1;
@@ -108,7 +128,7 @@ PSC_DEVICE void goToTitleScreen(Env& e) {
 
 // Loads entry e.entry: a level replaces the buffer; a message only shows.
 // Either way the random stream restarts from the level seed.
-PSC_DEVICE void loadEntry(Env& e, UndoStack& u) {
+PSC_DEVICE PSC_COLD void loadEntry(Env& e, UndoStack& u) {
 #if PSC_USES_RANDOM
     e.rng.seed(e.seed, e.seedLength);
 #endif
@@ -133,10 +153,10 @@ PSC_DEVICE void loadEntry(Env& e, UndoStack& u) {
     e.queue = 0;
     clearUndo(u);
     saveObjects(e, e.restartTarget);
-    if (kRunRulesOnLevelStart) processInput(e, u, -1, true, false);
+    if (kRunRulesOnLevelStart) coldTurn(e, u, true);
 }
 
-PSC_DEVICE void nextLevel(Env& e, UndoStack& u) {
+PSC_DEVICE PSC_COLD void nextLevel(Env& e, UndoStack& u) {
     e.againing = 0;
     if (e.titleScreen) {
         e.entry = 0;
@@ -152,7 +172,7 @@ PSC_DEVICE void nextLevel(Env& e, UndoStack& u) {
     }
 }
 
-PSC_DEVICE void checkWin(Env& e, UndoStack& u, bool dontDoWin) {
+PSC_DEVICE PSC_INLINE void checkWin(Env& e, UndoStack& u, bool dontDoWin) {
     bool won = (e.queue & kCmdWin) != 0;
     if (!won) {
         if (kWinConditionCount == 0) return;
@@ -161,7 +181,7 @@ PSC_DEVICE void checkWin(Env& e, UndoStack& u, bool dontDoWin) {
     if (won && !dontDoWin) {
         e.againing = 0;
         ++e.wins;
-        if (!e.stopOnWin) nextLevel(e, u);
+        if (!e.stopOnWin) outOfLine(e, u, [](Env& m, UndoStack& mu) { nextLevel(m, mu); });
     }
 }
 
@@ -174,48 +194,22 @@ PSC_DEVICE PSC_INLINE u32 queueCommands(u32 queue, u32 commands) {
     return queue | commands;
 }
 
-PSC_DEVICE bool processCommandQueue(Env& e, UndoStack& u, const Snapshot& bak, bool dontModify, bool dontDoWin,
-                                    int inputDir) {
-    if (e.queue & kCmdCancel) {
-        const bool commandsLeft = popcount(e.queue) > 1;
-        restoreLevel(e, bak);
-        return commandsLeft;
-    }
-    if (e.queue & kCmdRestart) {
-        pushUndo(u, bak);
-        if (!dontModify) doRestart(e, u, true);
-    }
-    const bool modified = !sameObjects(e, bak);
-    if (modified) {
-        if (dontModify) {
-            restoreLevel(e, bak);
-            return true;
-        }
-        if (inputDir != -1) pushUndo(u, bak);
-    }
-    if (dontModify && (e.queue & (kCmdWin | kCmdRestart))) return true;
-    if (!e.textMode) checkWin(e, u, dontDoWin);
-    if (e.queue & kCmdCheckpoint) saveObjects(e, e.restartTarget);
-    if ((e.queue & kCmdAgain) && modified) {
-        if (processInput(e, u, -1, true, true)) e.againing = 1;
-    }
-    e.queue = 0;
-    return modified;
-}
-
 PSC_DEVICE PSC_INLINE void clearRigidClaims(Turn& t) {
 #if PSC_HAS_RIGID
-    for (int i = 0; i < kLayers * 5; ++i) t.rigidGroup[i] = Board::zero();
-    for (int i = 0; i < kLayers; ++i) t.rigidApplied[i] = Board::zero();
+    PSC_UNROLL for (int i = 0; i < kLayers * 5; ++i) t.rigidGroup[i] = Board::zero();
+    PSC_UNROLL for (int i = 0; i < kLayers; ++i) t.rigidApplied[i] = Board::zero();
 #else
     (void)t;
 #endif
 }
 
-// One turn: dir is 0 up, 1 left, 2 down, 3 right, 4 action, or -1 for none.
-PSC_DEVICE bool processInput(Env& e, UndoStack& u, int dir, bool dontDoWin, bool dontModify) {
+// The rules of a turn (the reference's processInput up to its command
+// queue): the player's movement, rules, movement resolution with the rigid
+// retry loop, late rules.  dir is 0 up, 1 left, 2 down, 3 right, 4 action,
+// or -1 for none.  `bak` receives the level as it was.  Returns false when
+// require_player_movement undid the turn.
+PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, Snapshot& bak) {
     e.againing = 0;
-    Snapshot bak;
     saveObjects(e, bak);
     Board playerPositions = Board::zero();
     if (dir >= 0) {
@@ -228,27 +222,29 @@ PSC_DEVICE bool processInput(Env& e, UndoStack& u, int dir, bool dontDoWin, bool
     clearRigidClaims(t);
     e.queue = 0;
 
+#if PSC_HAS_RIGID
     Board startObj[kObjects];
     Board startMov[kLayers * 5];
-    for (int o = 0; o < kObjects; ++o) startObj[o] = e.obj[o];
-    for (int m = 0; m < kLayers * 5; ++m) startMov[m] = e.mov[m];
-
-    int iteration = 0;
-    bool rigidLoop;
-    do {
-        rigidLoop = false;
-        ++iteration;
+    PSC_UNROLL for (int o = 0; o < kObjects; ++o) startObj[o] = e.obj[o];
+    PSC_UNROLL for (int m = 0; m < kLayers * 5; ++m) startMov[m] = e.mov[m];
+    for (int iteration = 1;; ++iteration) {
         applyEarlyRules(e, t);
-        if (resolveMovements(e, t)) {
-            rigidLoop = true;
-            for (int o = 0; o < kObjects; ++o) e.obj[o] = startObj[o];
-            for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = startMov[m];
-            clearRigidClaims(t);
-            e.queue = 0;
-        } else {
+        if (!resolveMovements(e, t)) {
             applyLateRules(e, t);
+            break;
         }
-    } while (iteration < 50 && rigidLoop);
+        // A rigid group was banned: start over without it (at most 50 tries).
+        PSC_UNROLL for (int o = 0; o < kObjects; ++o) e.obj[o] = startObj[o];
+        PSC_UNROLL for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = startMov[m];
+        clearRigidClaims(t);
+        e.queue = 0;
+        if (iteration >= 50) break;
+    }
+#else
+    applyEarlyRules(e, t);
+    resolveMovements(e, t);
+    applyLateRules(e, t);
+#endif
 
     if (kRequirePlayerMovement && playerPositions.any()) {
         // Some player moved: one of its starting cells holds no player object now.
@@ -258,8 +254,67 @@ PSC_DEVICE bool processInput(Env& e, UndoStack& u, int dir, bool dontDoWin, bool
             return false;
         }
     }
-    return processCommandQueue(e, u, bak, dontModify, dontDoWin, dir);
+    return true;
 }
+
+// The command queue of the `again` dry run (processInput with dontDoWin and
+// dontModify): it never keeps a change; returns whether another turn would
+// change the level.
+PSC_DEVICE PSC_INLINE bool dryRunCommands(Env& e, UndoStack& u, const Snapshot& bak) {
+    if (e.queue & kCmdCancel) {
+        const bool commandsLeft = popcount(e.queue) > 1;
+        restoreLevel(e, bak);
+        return commandsLeft;
+    }
+    if (e.queue & kCmdRestart) pushUndo(u, bak);
+    if (!sameObjects(e, bak)) {
+        restoreLevel(e, bak);
+        return true;
+    }
+    if (e.queue & (kCmdWin | kCmdRestart)) return true;
+    if (e.queue & kCmdCheckpoint) saveObjects(e, e.restartTarget);
+    e.queue = 0;
+    return false;
+}
+
+// A whole turn (the reference's processInput and processCommandQueue, with
+// dontModify false): the rules, then cancel, restart, undo history, the win
+// check, checkpoint, and the dry run that decides whether `again` follows.
+// The dry run goes round the same loop, so the rules are compiled once.
+PSC_DEVICE PSC_INLINE bool playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin) {
+    bool dryRun = false;
+    bool modified = false;
+    for (;;) {
+        Snapshot bak;
+        const bool ruled = runRules(e, dir, bak);
+        if (dryRun) {
+            if (ruled && dryRunCommands(e, u, bak)) e.againing = 1;
+            e.queue = 0;
+            return modified;
+        }
+        if (!ruled) return false;
+        if (e.queue & kCmdCancel) {
+            const bool commandsLeft = popcount(e.queue) > 1;
+            restoreLevel(e, bak);
+            return commandsLeft;
+        }
+        if (e.queue & kCmdRestart) {
+            pushUndo(u, bak);
+            outOfLine(e, u, [](Env& m, UndoStack& mu) { doRestart(m, mu, true); });
+        }
+        modified = !sameObjects(e, bak);
+        if (modified && dir != -1) pushUndo(u, bak);
+        if (!e.textMode) checkWin(e, u, dontDoWin);
+        if (e.queue & kCmdCheckpoint) saveObjects(e, e.restartTarget);
+        if (!((e.queue & kCmdAgain) && modified)) break;
+        dryRun = true;
+        dir = -1;
+    }
+    e.queue = 0;
+    return modified;
+}
+
+PSC_DEVICE PSC_COLD void coldTurn(Env& e, UndoStack& u, bool dontDoWin) { playTurn(e, u, -1, dontDoWin); }
 
 // ---- inputs, as the reference's test harness gives them
 
@@ -270,32 +325,47 @@ inline constexpr int kInputCount = 8;
 // (an animation loop) is cut off here.
 inline constexpr int kMaxAgainTurns = 10000;
 
-// Returns false when an again chain had to be cut off.
-PSC_DEVICE bool settle(Env& e, UndoStack& u) {
+// One input and every `again` turn it triggers (they settle within the
+// input).  Returns false when an again chain had to be cut off.
+PSC_DEVICE PSC_INLINE bool applyInput(Env& e, UndoStack& u, int input) {
+    bool play = true;
+    int dir = input <= kInputAction ? input : -1;
+    if (input == kInputUndo) {
+        outOfLine(e, u, [](Env& m, UndoStack& mu) { doUndo(m, mu, false, true); });
+        play = false;
+    } else if (input == kInputRestart) {
+        outOfLine(e, u, [](Env& m, UndoStack& mu) { doRestart(m, mu, false); });
+        play = false;
+    }
+    for (int turns = 0;; ++turns) {
+        if (play) playTurn(e, u, dir, false);
+        if (!e.againing || (e.stopOnWin && e.wins)) return true;
+        if (turns >= kMaxAgainTurns) {
+            e.againing = 0;
+            return false;
+        }
+        e.againing = 0;
+        play = true;
+        dir = -1;
+    }
+}
+
+// Settles an `again` chain started outside applyInput (by a level start).
+PSC_DEVICE PSC_COLD bool settle(Env& e, UndoStack& u) {
     for (int n = 0; e.againing && !(e.stopOnWin && e.wins); ++n) {
         if (n >= kMaxAgainTurns) {
             e.againing = 0;
             return false;
         }
         e.againing = 0;
-        processInput(e, u, -1, false, false);
+        coldTurn(e, u, false);
     }
     return true;
 }
 
-PSC_DEVICE bool applyInput(Env& e, UndoStack& u, int input) {
-    switch (input) {
-        case kInputUndo: doUndo(e, u, false, true); break;
-        case kInputRestart: doRestart(e, u, false); break;
-        case kInputTick: processInput(e, u, -1, false, false); break;
-        default: processInput(e, u, input, false, false); break;
-    }
-    return settle(e, u);
-}
-
 // Starts entry `entry` as the harness does after compiling (the level seed
 // must be set first).
-PSC_DEVICE bool startAtEntry(Env& e, UndoStack& u, int entry) {
+PSC_DEVICE PSC_COLD bool startAtEntry(Env& e, UndoStack& u, int entry) {
     e.entry = static_cast<short>(entry);
     e.titleScreen = 0;
     e.textMode = 0;
@@ -316,11 +386,101 @@ PSC_DEVICE bool startAtEntry(Env& e, UndoStack& u, int entry) {
         saveObjects(e, e.restartTarget);
     }
     loadEntry(e, u);
-    return settle(e, u);
+    return !(kRunRulesOnLevelStart && e.againing) || settle(e, u);
 }
 
 PSC_DEVICE PSC_INLINE Screen screenOf(const Env& e) {
     return e.titleScreen ? kScreenTitle : e.textMode ? kScreenMessage : kScreenLevel;
+}
+
+// Device pointers of a CUDA batch, passed by value to every kernel.
+struct DeviceBatch {
+    Env* envs;
+    Snapshot* undoEntries;  // [numEnvs][undoDepth]
+    int* undoCount;
+    int* undoHead;
+    int undoDepth;
+    int numEnvs;
+    int* actions;
+    u8* observations;
+    float* rewards;
+    u8* terminated;
+    u8* truncated;
+    u8* won;
+    int* episodeSteps;
+    const int* channelObjects;
+    int channels;
+    int maxWidth;
+    int maxHeight;
+    unsigned long long* stats;  // steps, wins, episodes, invalid actions (psc_run_kernel)
+};
+
+// ---- episodes (the plugin's step, shared by the CPU and CUDA backends)
+
+enum AutoReset { kAutoResetOff = 0, kAutoResetSameStep = 1, kAutoResetNextStep = 2 };
+
+struct StepOutcome {
+    float reward;
+    u8 terminated;
+    u8 truncated;
+    u8 won;
+    u8 cutOff;
+};
+
+PSC_DEVICE PSC_COLD void startEpisode(Env& e, UndoStack& u) {
+    e.stopOnWin = e.autoReset != kAutoResetOff ? 1 : 0;
+    e.unavailable = 0;
+    startAtEntry(e, u, e.levelEntry);
+    e.episodeSteps = 0;
+    e.needsReset = 0;
+}
+
+PSC_DEVICE PSC_INLINE StepOutcome stepEnvironment(Env& e, UndoStack& u, int action) {
+    StepOutcome out = {0.0f, 0, 0, 0, 0};
+    if (e.needsReset) {
+        outOfLine(e, u, [](Env& m, UndoStack& mu) { startEpisode(m, mu); });
+        return out;
+    }
+    e.wins = 0;
+    const bool settled = applyInput(e, u, action);
+    out.won = e.wins > 0;
+    out.reward = static_cast<float>(e.wins);
+    out.cutOff = !settled || e.unavailable;
+    ++e.episodeSteps;
+    if (e.autoReset == kAutoResetOff) {
+        out.terminated = e.titleScreen && e.startExisted;
+        return out;
+    }
+    out.terminated = out.won;
+    out.truncated = !out.won && e.maxEpisodeSteps > 0 && e.episodeSteps >= e.maxEpisodeSteps;
+    if (out.terminated || out.truncated) {
+        if (e.autoReset == kAutoResetSameStep) outOfLine(e, u, [](Env& m, UndoStack& mu) { startEpisode(m, mu); });
+        else e.needsReset = 1;
+    }
+    return out;
+}
+
+// Multi-hot object planes: out[(c * maxHeight + y) * maxWidth + x].
+PSC_DEVICE void observeEnvironment(const Env& e, const int* channelObjects, int channels, int maxWidth, int maxHeight,
+                                   u8* out) {
+    for (int i = 0; i < channels * maxWidth * maxHeight; ++i) out[i] = 0;
+    for (int c = 0; c < channels; ++c) {
+        const Board& board = e.obj[channelObjects[c]];
+        for (int x = 0; x < e.width && x < maxWidth; ++x) {
+            for (int y = 0; y < e.height && y < maxHeight; ++y) {
+                out[(c * maxHeight + y) * maxWidth + x] = board.test(positionOf(e, x, y));
+            }
+        }
+    }
+}
+
+// A counter-based random action: the same (seed, env, step) gives the same action on every backend.
+PSC_DEVICE PSC_INLINE int randomAction(u64 seed, u64 env, u64 step, int count) {
+    u64 z = seed ^ (env * 0x9E3779B97F4A7C15ull) ^ (step * 0xD1B54A32D192ED03ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return static_cast<int>((z >> 32) % static_cast<u64>(count));
 }
 
 }  // namespace psc_game

@@ -78,8 +78,6 @@ struct StateHeader {
     char sha1[40];
     int32_t undoCapacity;
     int32_t undoCount;
-    int32_t levelEntry;
-    int32_t episodeSteps;
 };
 
 }  // namespace
@@ -94,9 +92,6 @@ struct psc_batch {
     std::vector<psc_game::Env> envs;
     std::vector<psc_game::Snapshot> undoEntries;
     std::vector<psc_game::UndoStack> undo;
-    std::vector<int32_t> levelEntry;    // the entry each environment resets to
-    std::vector<int32_t> episodeSteps;
-    std::vector<uint8_t> needsReset;    // next-step auto-reset: the episode ended on the last step
     // psc_buffers
     std::vector<int32_t> actions;
     std::vector<uint8_t> observations;
@@ -104,6 +99,8 @@ struct psc_batch {
     std::vector<uint8_t> terminated;
     std::vector<uint8_t> truncated;
     std::vector<uint8_t> won;
+    std::vector<int32_t> episodeSteps;
+    unsigned long long rolloutSteps = 0;  // steps run by rollouts so far (the random actions' counter)
     psc_game::WorkerPool* pool = nullptr;
 };
 
@@ -141,63 +138,22 @@ std::u16string utf16(const char* utf8) {
     return out;
 }
 
-void startEnv(psc_batch* b, int i) {
-    b->envs[i].stopOnWin = b->autoReset != PSC_AUTO_RESET_OFF ? 1 : 0;
-    startAtEntry(b->envs[i], b->undo[i], b->levelEntry[i]);
-    b->episodeSteps[i] = 0;
-    b->needsReset[i] = 0;
-}
-
-psc_step_result stepEnv(psc_batch* b, int i, int action) {
-    psc_step_result out{};
-    if (b->needsReset[i]) {
-        startEnv(b, i);
-        return out;
-    }
-    Env& e = b->envs[i];
-    UndoStack& u = b->undo[i];
-    e.wins = 0;
-    const bool settled = applyInput(e, u, action);
-    out.won = e.wins > 0;
-    out.reward = static_cast<float>(e.wins);
-    out.cut_off = !settled || e.unavailable;
-    out.episode_steps = ++b->episodeSteps[i];
-    if (b->autoReset == PSC_AUTO_RESET_OFF) {
-        out.terminated = e.titleScreen && e.startExisted;
-        return out;
-    }
-    out.terminated = out.won;
-    out.truncated = !out.won && b->maxEpisodeSteps > 0 && out.episode_steps >= b->maxEpisodeSteps;
-    if (out.terminated || out.truncated) {
-        if (b->autoReset == PSC_AUTO_RESET_SAME_STEP) startEnv(b, i);
-        else b->needsReset[i] = 1;
-    }
-    return out;
-}
-
 void observeEnv(const Env& e, uint8_t* out) {
-    const size_t plane = static_cast<size_t>(kMaxWidth) * kMaxHeight;
-    std::memset(out, 0, plane * kChannelCount);
-    for (int c = 0; c < kChannelCount; ++c) {
-        const Board& board = e.obj[kChannelObject[c]];
-        for (int x = 0; x < e.width && x < kMaxWidth; ++x) {
-            for (int y = 0; y < e.height && y < kMaxHeight; ++y) {
-                out[plane * c + static_cast<size_t>(y) * kMaxWidth + x] = board.test(positionOf(e, x, y));
-            }
-        }
-    }
+    observeEnvironment(e, kChannelObject, kChannelCount, kMaxWidth, kMaxHeight, out);
+}
+
+psc_step_result toResult(const StepOutcome& o, const Env& e) {
+    psc_step_result r{};
+    r.reward = o.reward;
+    r.terminated = o.terminated;
+    r.truncated = o.truncated;
+    r.won = o.won;
+    r.cut_off = o.cutOff;
+    r.episode_steps = e.episodeSteps;
+    return r;
 }
 
 size_t observationBytes() { return static_cast<size_t>(kMaxWidth) * kMaxHeight * kChannelCount; }
-
-// A counter-based random action: the same (seed, env, step) gives the same action.
-int randomAction(uint64_t seed, uint64_t env, uint64_t step, int count) {
-    uint64_t z = seed ^ (env * 0x9E3779B97F4A7C15ull) ^ (step * 0xD1B54A32D192ED03ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return static_cast<int>((z >> 32) % static_cast<uint64_t>(count));
-}
 
 void appendJsonString(std::string& out, const char* s) {
     static const char* hex = "0123456789abcdef";
@@ -327,9 +283,7 @@ int psc_batch_create(const psc_batch_options* options, psc_batch** batch) {
         b->undo.resize(static_cast<size_t>(b->numEnvs));
         int firstBuilt = 0;
         while (!kLevelBuilt[firstBuilt]) ++firstBuilt;
-        b->levelEntry.assign(static_cast<size_t>(b->numEnvs), kLevelEntries[firstBuilt]);
         b->episodeSteps.assign(static_cast<size_t>(b->numEnvs), 0);
-        b->needsReset.assign(static_cast<size_t>(b->numEnvs), 0);
         b->actions.assign(static_cast<size_t>(b->numEnvs), 0);
         b->observations.assign(static_cast<size_t>(b->numEnvs) * observationBytes(), 0);
         b->rewards.assign(static_cast<size_t>(b->numEnvs), 0.0f);
@@ -339,9 +293,13 @@ int psc_batch_create(const psc_batch_options* options, psc_batch** batch) {
         for (int i = 0; i < b->numEnvs; ++i) {
             b->undo[i] = UndoStack{b->undoDepth ? &b->undoEntries[static_cast<size_t>(i) * b->undoDepth] : nullptr,
                                    b->undoDepth, 0, 0};
-            std::memset(&b->envs[i], 0, sizeof(Env));
-            setSeed(b->envs[i], utf16("0"));
-            startEnv(b, i);
+            Env& e = b->envs[i];
+            std::memset(&e, 0, sizeof(Env));
+            setSeed(e, utf16("0"));
+            e.levelEntry = kLevelEntries[firstBuilt];
+            e.autoReset = static_cast<u8>(b->autoReset);
+            e.maxEpisodeSteps = b->maxEpisodeSteps;
+            startEpisode(e, b->undo[i]);
         }
         int threads = options->threads > 0 ? options->threads : static_cast<int>(std::thread::hardware_concurrency());
         b->pool = new WorkerPool(std::max(1, threads));
@@ -388,9 +346,9 @@ int psc_reset(psc_batch* batch, const int32_t* env_ids, int32_t count, const int
     }
     for (int32_t i = 0; i < count; ++i) {
         const int32_t env = env_ids ? env_ids[i] : i;
-        batch->levelEntry[env] = kLevelEntries[levels[i]];
+        batch->envs[env].levelEntry = kLevelEntries[levels[i]];
         setSeed(batch->envs[env], utf16(std::to_string(seeds[i]).c_str()));
-        startEnv(batch, env);
+        startEpisode(batch->envs[env], batch->undo[env]);
     }
     return PSC_OK;
 }
@@ -398,17 +356,17 @@ int psc_reset(psc_batch* batch, const int32_t* env_ids, int32_t count, const int
 int psc_reset_entry(psc_batch* batch, int32_t env, int32_t entry, const char* seed) {
     using namespace psc_game;
     if (int s = checkEnv(batch, env)) return s;
-    if (psc_cuda_owns(batch)) return fail(PSC_ERROR_BACKEND_UNAVAILABLE, "psc_reset_entry runs on CPU batches");
     if (!seed) return fail(PSC_ERROR_NULL_POINTER, "seed is NULL");
     if (entry < 0) return fail(PSC_ERROR_BAD_LEVEL, "entry must not be negative");
     if (entry < kEntries && kEntryBoards[entry] == -2) {
         return fail(PSC_ERROR_BAD_LEVEL, "entry " + std::to_string(entry) + " was left out of this plugin (psc --levels)");
     }
+    if (psc_cuda_owns(batch)) return psc_cuda_reset_entries(batch, &env, 1, &entry, {utf16(seed)});
     if (!setSeed(batch->envs[env], utf16(seed))) {
         return fail(PSC_ERROR_BAD_ARGUMENT, "the seed is longer than " + std::to_string(kSeedUnits) + " UTF-16 units");
     }
-    batch->levelEntry[env] = entry;
-    startEnv(batch, env);
+    batch->envs[env].levelEntry = entry;
+    startEpisode(batch->envs[env], batch->undo[env]);
     return PSC_OK;
 }
 
@@ -425,8 +383,8 @@ int psc_step(psc_batch* batch, const int32_t* actions, psc_step_result* results)
     }
     batch->pool->run(batch->numEnvs, [&](int begin, int end) {
         for (int i = begin; i < end; ++i) {
-            const psc_step_result r = stepEnv(batch, i, actions[i]);
-            if (results) results[i] = r;
+            const StepOutcome o = stepEnvironment(batch->envs[i], batch->undo[i], actions[i]);
+            if (results) results[i] = toResult(o, batch->envs[i]);
         }
     });
     return PSC_OK;
@@ -461,11 +419,43 @@ int psc_step_buffers(psc_batch* batch) {
     }
     batch->pool->run(batch->numEnvs, [&](int begin, int end) {
         for (int i = begin; i < end; ++i) {
-            const psc_step_result r = stepEnv(batch, i, batch->actions[i]);
-            batch->rewards[i] = r.reward;
-            batch->terminated[i] = r.terminated;
-            batch->truncated[i] = r.truncated;
-            batch->won[i] = r.won;
+            const StepOutcome o = stepEnvironment(batch->envs[i], batch->undo[i], batch->actions[i]);
+            batch->rewards[i] = o.reward;
+            batch->terminated[i] = o.terminated;
+            batch->truncated[i] = o.truncated;
+            batch->won[i] = o.won;
+            batch->episodeSteps[i] = batch->envs[i].episodeSteps;
+            observeEnv(batch->envs[i], batch->observations.data() + observationBytes() * i);
+        }
+    });
+    return PSC_OK;
+}
+
+int psc_step_many(psc_batch* batch, int32_t steps, const int32_t* actions, float* rewards, uint8_t* terminated,
+                  uint8_t* truncated, uint8_t* won) {
+    using namespace psc_game;
+    if (int s = checkBatch(batch)) return s;
+    if (steps < 0) return fail(PSC_ERROR_BAD_ARGUMENT, "steps must not be negative");
+    if (!actions) return fail(PSC_ERROR_NULL_POINTER, "actions is NULL");
+    if (psc_cuda_owns(batch)) return psc_cuda_step_many(batch, steps, actions, rewards, terminated, truncated, won);
+    const size_t n = static_cast<size_t>(batch->numEnvs);
+    for (size_t at = 0; at < n * static_cast<size_t>(steps); ++at) {
+        if (actions[at] < 0 || actions[at] >= kInputCount) {
+            return fail(PSC_ERROR_BAD_ACTION, "action " + std::to_string(actions[at]) + " of step " + std::to_string(at / n) +
+                                                  ", environment " + std::to_string(at % n) + " out of range [0, 8)");
+        }
+    }
+    batch->pool->run(batch->numEnvs, [&](int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+            for (int32_t k = 0; k < steps; ++k) {
+                const size_t at = static_cast<size_t>(k) * n + static_cast<size_t>(i);
+                const StepOutcome o = stepEnvironment(batch->envs[i], batch->undo[i], actions[at]);
+                if (rewards) rewards[at] = o.reward;
+                if (terminated) terminated[at] = o.terminated;
+                if (truncated) truncated[at] = o.truncated;
+                if (won) won[at] = o.won;
+            }
+            batch->episodeSteps[i] = batch->envs[i].episodeSteps;
             observeEnv(batch->envs[i], batch->observations.data() + observationBytes() * i);
         }
     });
@@ -498,13 +488,15 @@ int psc_rollout(psc_batch* batch, int32_t steps, uint64_t seed, psc_rollout_stat
             psc_rollout_stats& st = partial[static_cast<size_t>(i)];
             st = psc_rollout_stats{0, 0, 0};
             for (int32_t k = 0; k < steps; ++k) {
-                const psc_step_result r = stepEnv(batch, i, randomAction(seed, static_cast<uint64_t>(i), static_cast<uint64_t>(k), actionCount));
+                const int action = randomAction(seed, static_cast<uint64_t>(i), batch->rolloutSteps + static_cast<uint64_t>(k), actionCount);
+                const StepOutcome o = stepEnvironment(batch->envs[i], batch->undo[i], action);
                 ++st.steps;
-                st.wins += r.won;
-                st.episodes += (r.terminated || r.truncated) ? 1 : 0;
+                st.wins += o.won;
+                st.episodes += (o.terminated || o.truncated) ? 1 : 0;
             }
         }
     });
+    batch->rolloutSteps += static_cast<unsigned long long>(steps);
     if (stats) {
         *stats = psc_rollout_stats{0, 0, 0};
         for (const auto& p : partial) {
@@ -540,29 +532,32 @@ size_t psc_state_size(const psc_batch* batch) {
 int psc_save_state(const psc_batch* batch, int32_t env, void* buffer, size_t size) {
     using namespace psc_game;
     if (int s = checkEnv(batch, env)) return s;
-    if (psc_cuda_owns(batch)) return fail(PSC_ERROR_BACKEND_UNAVAILABLE, "state save/restore runs on CPU batches");
     if (!buffer) return fail(PSC_ERROR_NULL_POINTER, "buffer is NULL");
     if (size < psc_state_size(batch)) return fail(PSC_ERROR_BUFFER_TOO_SMALL, "the buffer is smaller than psc_state_size()");
+    Env e;
+    std::vector<Snapshot> undo;  // oldest first
+    if (psc_cuda_owns(batch)) {
+        if (int s = psc_cuda_read_state(batch, env, &e, undo)) return s;
+    } else {
+        e = batch->envs[env];
+        const UndoStack& u = batch->undo[env];
+        for (int k = 0; k < u.count; ++k) undo.push_back(u.entries[(u.head + k) % u.capacity]);
+    }
     StateHeader h{};
     std::memcpy(h.magic, "pscstat1", 8);
     std::memcpy(h.sha1, kGameInfo.source_sha1, 40);
-    const UndoStack& u = batch->undo[env];
-    h.undoCapacity = u.capacity;
-    h.undoCount = u.count;
-    h.levelEntry = batch->levelEntry[env];
-    h.episodeSteps = batch->episodeSteps[env];
+    h.undoCapacity = batch->undoDepth;
+    h.undoCount = static_cast<int32_t>(undo.size());
     char* out = static_cast<char*>(buffer);
     std::memcpy(out, &h, sizeof h);
-    std::memcpy(out + sizeof h, &batch->envs[env], sizeof(Env));
-    Snapshot* entries = reinterpret_cast<Snapshot*>(out + sizeof h + sizeof(Env));
-    for (int k = 0; k < u.count; ++k) std::memcpy(&entries[k], &u.entries[(u.head + k) % u.capacity], sizeof(Snapshot));
+    std::memcpy(out + sizeof h, &e, sizeof(Env));
+    if (!undo.empty()) std::memcpy(out + sizeof h + sizeof(Env), undo.data(), sizeof(Snapshot) * undo.size());
     return PSC_OK;
 }
 
 int psc_load_state(psc_batch* batch, int32_t env, const void* buffer, size_t size) {
     using namespace psc_game;
     if (int s = checkEnv(batch, env)) return s;
-    if (psc_cuda_owns(batch)) return fail(PSC_ERROR_BACKEND_UNAVAILABLE, "state save/restore runs on CPU batches");
     if (!buffer) return fail(PSC_ERROR_NULL_POINTER, "buffer is NULL");
     if (size < psc_state_size(batch)) return fail(PSC_ERROR_BUFFER_TOO_SMALL, "the buffer is smaller than psc_state_size()");
     StateHeader h;
@@ -574,22 +569,27 @@ int psc_load_state(psc_batch* batch, int32_t env, const void* buffer, size_t siz
     if (h.undoCapacity != batch->undoDepth || h.undoCount < 0 || h.undoCount > h.undoCapacity) {
         return fail(PSC_ERROR_BAD_STATE, "the saved state's undo depth differs from this batch's");
     }
-    std::memcpy(&batch->envs[env], in + sizeof h, sizeof(Env));
+    Env e;
+    std::memcpy(&e, in + sizeof h, sizeof(Env));
+    std::vector<Snapshot> undo(static_cast<size_t>(h.undoCount));
+    if (!undo.empty()) std::memcpy(undo.data(), in + sizeof h + sizeof(Env), sizeof(Snapshot) * undo.size());
+    if (psc_cuda_owns(batch)) return psc_cuda_write_state(batch, env, e, undo);
+    batch->envs[env] = e;
     UndoStack& u = batch->undo[env];
-    const Snapshot* entries = reinterpret_cast<const Snapshot*>(in + sizeof h + sizeof(Env));
     u.head = 0;
     u.count = h.undoCount;
-    for (int k = 0; k < u.count; ++k) std::memcpy(&u.entries[k], &entries[k], sizeof(Snapshot));
-    batch->levelEntry[env] = h.levelEntry;
-    batch->episodeSteps[env] = h.episodeSteps;
+    for (int k = 0; k < u.count; ++k) u.entries[k] = undo[static_cast<size_t>(k)];
     return PSC_OK;
 }
 
 int psc_dump_state(const psc_batch* batch, int32_t env, char* buffer, size_t size, size_t* needed) {
     using namespace psc_game;
     if (int s = checkEnv(batch, env)) return s;
-    if (psc_cuda_owns(batch)) return fail(PSC_ERROR_BACKEND_UNAVAILABLE, "state dumps run on CPU batches");
-    const std::string json = dumpState(batch->envs[env]);
+    Env fetched;
+    if (psc_cuda_owns(batch)) {
+        if (int s = psc_cuda_fetch_env(batch, env, &fetched)) return s;
+    }
+    const std::string json = dumpState(psc_cuda_owns(batch) ? fetched : batch->envs[env]);
     if (needed) *needed = json.size() + 1;
     if (!buffer || size < json.size() + 1) return fail(PSC_ERROR_BUFFER_TOO_SMALL, "the buffer is too small for the dump");
     std::memcpy(buffer, json.c_str(), json.size() + 1);

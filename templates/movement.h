@@ -8,28 +8,16 @@
 
 namespace psc_game {
 
-PSC_DEVICE PSC_INLINE bool layerOccupied(const Env& e, int layer, int p) {
-    for (int i = kLayerObjectStart[layer]; i < kLayerObjectStart[layer + 1]; ++i) {
-        if (e.obj[kLayerObjects[i]].test(p)) return true;
-    }
-    return false;
-}
-
-// How many movement-sound declarations of this layer name an object present
-// in the cell.  The reference re-reads the cell's movements once per such
-// declaration into a ring of three buffers, so every third read reloads the
-// movement being resolved (see docs/architecture.md, "engine quirks").
-PSC_DEVICE PSC_INLINE int soundReads(const Env& e, int layer, int p) {
-    int reads = 0;
-    for (int i = kMoveSoundStart[layer]; i < kMoveSoundStart[layer + 1]; ++i) {
-        if (e.obj[kMoveSoundObjects[i]].test(p)) ++reads;
-    }
-    return reads;
-}
+// layerOccupied, soundReads and moveLayerObjects are generated per game
+// (constant object ids per layer).  soundReads counts the movement-sound
+// declarations of a layer that name an object present in the cell: the
+// reference re-reads the cell's movements once per such declaration into a
+// ring of three buffers, so every third read reloads the movement being
+// resolved (see docs/architecture.md, "engine quirks").
 
 // Tries to move layer `layer` of the cell at p by `field` (one direction bit);
 // adds the sound reads it makes to *reads.
-PSC_DEVICE bool moveLayer(Env& e, int p, int layer, int field, int* reads) {
+PSC_DEVICE PSC_INLINE bool moveLayer(Env& e, int p, int layer, int field, int* reads) {
     int dx = 0;
     int dy = 0;
     switch (field) {
@@ -49,59 +37,53 @@ PSC_DEVICE bool moveLayer(Env& e, int p, int layer, int field, int* reads) {
     const int target = p + dy + dx * column;
     if (field != 16 && layerOccupied(e, layer, target)) return false;
     *reads += soundReads(e, layer, p);
-    for (int i = kLayerObjectStart[layer]; i < kLayerObjectStart[layer + 1]; ++i) {
-        Board& b = e.obj[kLayerObjects[i]];
-        if (b.test(p)) {
-            b.clear(p);
-            b.set(target);
-        }
-    }
+    moveLayerObjects(e, layer, p, target);
     return true;
 }
 
 PSC_DEVICE PSC_INLINE u8 movementField(const Env& e, int layer, int p) {
     u8 f = 0;
-    for (int k = 0; k < 5; ++k) f |= static_cast<u8>(e.mov[5 * layer + k].test(p)) << k;
+    PSC_UNROLL for (int k = 0; k < 5; ++k) f |= static_cast<u8>(e.mov[5 * layer + k].test(p)) << k;
     return f;
 }
 
-PSC_DEVICE bool repositionCell(Env& e, int p) {
+PSC_DEVICE PSC_INLINE bool repositionCell(Env& e, int p) {
     u8 stored[kLayers];
     u8 fields[kLayers];
-    for (int L = 0; L < kLayers; ++L) stored[L] = fields[L] = movementField(e, L, p);
+    PSC_UNROLL for (int L = 0; L < kLayers; ++L) stored[L] = fields[L] = movementField(e, L, p);
     bool moved = false;
     int reads = 0;
-    for (int L = 0; L < kLayers; ++L) {
+    PSC_UNROLL for (int L = 0; L < kLayers; ++L) {
         const int f = fields[L];
         if (f == 0) continue;
         const int before = reads;
         if (moveLayer(e, p, L, f, &reads)) {
             if (reads / 3 > before / 3) {
-                for (int k = 0; k < kLayers; ++k) fields[k] = stored[k];
+                PSC_UNROLL for (int k = 0; k < kLayers; ++k) fields[k] = stored[k];
             }
             fields[L] = static_cast<u8>(fields[L] & ~f);
             moved = true;
         }
     }
-    for (int L = 0; L < kLayers; ++L) {
-        for (int k = 0; k < 5; ++k) e.mov[5 * L + k].assign(p, (fields[L] >> k) & 1);
+    PSC_UNROLL for (int L = 0; L < kLayers; ++L) {
+        PSC_UNROLL for (int k = 0; k < 5; ++k) e.mov[5 * L + k].assign(p, (fields[L] >> k) & 1);
     }
     return moved;
 }
 
 PSC_DEVICE PSC_INLINE Board movingCells(const Env& e) {
     Board any = Board::zero();
-    for (int m = 0; m < kLayers * 5; ++m) any = any | e.mov[m];
+    PSC_UNROLL for (int m = 0; m < kLayers * 5; ++m) any = any | e.mov[m];
     return any;
 }
 
-PSC_DEVICE bool resolveMovements(Env& e, Turn& t) {
+PSC_DEVICE PSC_INLINE bool resolveMovements(Env& e, Turn& t) {
     bool moved = true;
     while (moved) {
         moved = false;
         const Board cells = movingCells(e);
         for (int w = 0; w < kWords; ++w) {
-            u64 bits = cells.w[w];
+            u64 bits = cells.word(w);
             while (bits) {
                 const int p = w * 64 + lowestBit(bits);
                 bits &= bits - 1;
@@ -113,14 +95,14 @@ PSC_DEVICE bool resolveMovements(Env& e, Turn& t) {
 #if PSC_HAS_RIGID
     const Board left = movingCells(e);
     for (int w = 0; w < kWords; ++w) {
-        u64 bits = left.w[w];
+        u64 bits = left.word(w);
         while (bits) {
             const int p = w * 64 + lowestBit(bits);
             bits &= bits - 1;
-            for (int L = 0; L < kLayers; ++L) {
+            PSC_UNROLL for (int L = 0; L < kLayers; ++L) {
                 if (movementField(e, L, p) == 0 || !t.rigidApplied[L].test(p)) continue;
                 int claim = 0;
-                for (int k = 0; k < 5; ++k) claim |= static_cast<int>(t.rigidGroup[5 * L + k].test(p)) << k;
+                PSC_UNROLL for (int k = 0; k < 5; ++k) claim |= static_cast<int>(t.rigidGroup[5 * L + k].test(p)) << k;
                 const int rigidIndex = claim - 1;
                 const int bit = (rigidIndex >= 0 && rigidIndex < kRigidGroupCount) ? rigidIndex : 63;
                 if (!((t.banned >> bit) & 1)) {
@@ -134,7 +116,7 @@ PSC_DEVICE bool resolveMovements(Env& e, Turn& t) {
 #else
     (void)t;
 #endif
-    for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
+    PSC_UNROLL for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
     return banned;
 }
 

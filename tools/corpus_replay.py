@@ -3,11 +3,14 @@
 
     tools/corpus_replay.py [--psc build/cli/psc] [--corpus ../shared/corpus]
                            [--suite testsuite|scraped] [--jobs N] [--sample N]
-                           [--json report.json] [--min PERCENT] [IDS...]
+                           [--backend cpu|cuda] [--dumps DIR] [--json report.json]
+                           [--min PERCENT] [IDS...]
 
 Each case is replayed in its own process (a crash or hang in one case cannot
 hide the others).  Prints one line per failing case and a summary; exits 1 if
-the pass rate is below --min.
+the pass rate is below --min.  With --dumps, every case's states are written
+to DIR/<id>.jsonl and the report gives each dump's sha1, so the states of two
+backends can be compared case by case (tools/compare_dumps.py).
 """
 import argparse
 import concurrent.futures
@@ -37,15 +40,31 @@ def sample_cases(cases, n):
     return (first + rest)[:n]
 
 
-def replay(psc, corpus, entry, extra):
+def file_sha1(path):
+    try:
+        with open(path, "rb") as f:
+            return hashlib.sha1(f.read()).hexdigest()
+    except OSError:
+        return None
+
+
+def replay(psc, corpus, entry, extra, dumps):
     path = os.path.join(corpus, entry["path"])
+    dump = os.path.join(dumps, entry["id"] + ".jsonl") if dumps else None
     start = time.time()
     try:
-        r = subprocess.run([psc, "replay", path] + extra, capture_output=True, text=True, timeout=TIMEOUT_S)
+        r = subprocess.run([psc, "replay", path] + extra + (["--dump", dump] if dump else []),
+                           capture_output=True, text=True, timeout=TIMEOUT_S)
         code, out = r.returncode, (r.stdout + r.stderr)
     except subprocess.TimeoutExpired:
         code, out = 3, f"timed out after {TIMEOUT_S} s"
-    return entry, code, out, time.time() - start
+    return entry, code, out, time.time() - start, file_sha1(dump) if dump else None
+
+
+def write_report(a, results):
+    passed = sum(r["status"] == "pass" for r in results)
+    with open(a.json, "w") as f:
+        json.dump({"suite": a.suite, "backend": a.backend, "passed": passed, "total": len(results), "cases": results}, f, indent=1)
 
 
 def main():
@@ -58,30 +77,44 @@ def main():
     ap.add_argument("--json", default="")
     ap.add_argument("--min", type=float, default=0.0)
     ap.add_argument("--backend", default="cpu")
+    ap.add_argument("--dumps", default="", help="write every case's states to this folder")
+    ap.add_argument("--ids-file", default="", help="replay the case ids listed in this file (one a line)")
     ap.add_argument("ids", nargs="*")
     a = ap.parse_args()
 
     cases = [e for e in load_index(a.corpus) if e["kind"] == "trace" and e["suite"] == a.suite]
-    if a.ids:
-        cases = [e for e in cases if e["id"] in a.ids]
+    ids = set(a.ids)
+    if a.ids_file:
+        with open(a.ids_file) as f:
+            ids |= {line.strip() for line in f if line.strip()}
+    if ids:
+        order = {i: n for n, i in enumerate(a.ids + (open(a.ids_file).read().split() if a.ids_file else []))}
+        cases = sorted((e for e in cases if e["id"] in ids), key=lambda e: order[e["id"]])
     if a.sample:
         cases = sample_cases(cases, a.sample)
     extra = ["--backend", a.backend]
+    if a.dumps:
+        os.makedirs(a.dumps, exist_ok=True)
     results = []
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        for entry, code, out, seconds in pool.map(lambda e: replay(a.psc, a.corpus, e, extra), cases):
+        futures = [pool.submit(replay, a.psc, a.corpus, e, extra, a.dumps) for e in cases]
+        for future in concurrent.futures.as_completed(futures):
+            entry, code, out, seconds, sha1 = future.result()
             results.append({"id": entry["id"], "status": {0: "pass", 1: "mismatch", 2: "error", 3: "timeout"}.get(code, f"crash({code})"),
-                            "output": out.strip()[-2000:], "seconds": round(seconds, 2)})
+                            "output": out.strip()[-2000:], "seconds": round(seconds, 2), "dump_sha1": sha1})
             if code != 0:
                 first = out.strip().splitlines()[:3]
                 print(f"FAIL {entry['id']}: " + " | ".join(first)[:300], flush=True)
+            if a.json and len(results) % 25 == 0:
+                write_report(a, results)  # partial results survive a run cut short
+    results.sort(key=lambda r: r["id"])
     passed = sum(r["status"] == "pass" for r in results)
     pct = 100.0 * passed / len(results) if results else 100.0
     print(f"{a.suite}: {passed}/{len(results)} passed ({pct:.2f}%)")
     if a.json:
-        with open(a.json, "w") as f:
-            json.dump({"suite": a.suite, "passed": passed, "total": len(results), "cases": results}, f, indent=1)
+        write_report(a, results)
     sys.exit(0 if pct >= a.min else 1)
 
 
-main()
+if __name__ == "__main__":
+    main()

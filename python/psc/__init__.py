@@ -1,0 +1,20 @@
+"""psc: PuzzleScript games compiled to step-function plugins, as vectorised environments."""
+
+from .build import CompileError, compile, emit_ir
+from .plugin import GameInfo, Plugin, PscError
+from .render import render_planes, save_gif
+from .vector_env import Buffers, EnvState, VectorEnv
+
+__all__ = [
+    "Buffers",
+    "CompileError",
+    "EnvState",
+    "GameInfo",
+    "Plugin",
+    "PscError",
+    "VectorEnv",
+    "compile",
+    "emit_ir",
+    "render_planes",
+    "save_gif",
+]

@@ -1,0 +1,149 @@
+"""One psc_batch: the plugin's environments, with every ABI call checked.
+
+Views of the batch's buffers (dlpack.BufferView) hold a reference to the
+Batch, so the plugin memory they point to lives until the last view is gone,
+even after VectorEnv.close().
+"""
+
+import ctypes
+import json
+from typing import Optional, Sequence
+
+import numpy as np
+
+from . import _abi
+from .plugin import Plugin
+
+
+def _int32s(values, count: int, what: str) -> np.ndarray:
+    array = np.ascontiguousarray(values, dtype=np.int32)
+    if array.shape != (count,):
+        raise ValueError(f"{what} must have shape ({count},), not {array.shape}")
+    return array
+
+
+class Batch:
+    def __init__(
+        self,
+        plugin: Plugin,
+        num_envs: int,
+        backend: int,
+        threads: int,
+        undo_depth: int,
+        auto_reset: int,
+        max_episode_steps: int,
+        device: int = 0,
+    ):
+        self.plugin = plugin
+        self.lib = plugin.lib
+        options = _abi.BatchOptions(
+            struct_size=ctypes.sizeof(_abi.BatchOptions),
+            backend=backend,
+            num_envs=num_envs,
+            threads=threads,
+            undo_depth=undo_depth,
+            auto_reset=auto_reset,
+            max_episode_steps=max_episode_steps,
+            device=device,
+        )
+        handle = ctypes.c_void_p()
+        plugin.check(self.lib.psc_batch_create(ctypes.byref(options), ctypes.byref(handle)), "creating the batch")
+        self.handle = handle
+        self.num_envs = num_envs
+        self.backend = backend
+        self.stream = 0  # the cudaStream_t CUDA work is queued on (0: the default stream)
+        info = plugin.info
+        self.observation_shape = (num_envs, len(info.object_names), info.max_height, info.max_width)
+
+    def __del__(self):
+        # Plugin memory goes when the last user (env or exported view) does.
+        if getattr(self, "handle", None):
+            self.lib.psc_batch_destroy(self.handle)
+            self.handle = None
+
+    def check(self, status: int, doing: str) -> None:
+        self.plugin.check(status, doing)
+
+    def reset(self, levels: Sequence[int], seeds: Sequence[int], env_ids: Optional[Sequence[int]] = None) -> None:
+        count = self.num_envs if env_ids is None else len(env_ids)
+        ids = None if env_ids is None else _int32s(env_ids, count, "env_ids")
+        level_array = _int32s(levels, count, "levels")
+        seed_array = np.ascontiguousarray(seeds, dtype=np.uint64)
+        if seed_array.shape != (count,):
+            raise ValueError(f"seeds must have shape ({count},), not {seed_array.shape}")
+        status = self.lib.psc_reset(
+            self.handle,
+            None if ids is None else ids.ctypes.data,
+            count,
+            level_array.ctypes.data,
+            seed_array.ctypes.data,
+        )
+        self.check(status, "resetting")
+
+    def reset_entry(self, env: int, entry: int, seed: str) -> None:
+        self.check(self.lib.psc_reset_entry(self.handle, env, entry, seed.encode("utf-8")), "resetting to an entry")
+
+    def step(self, actions) -> np.ndarray:
+        """One step with host actions; returns the psc_step_result array (host)."""
+        action_array = _int32s(actions, self.num_envs, "actions")
+        results = (_abi.StepResult * self.num_envs)()
+        self.check(self.lib.psc_step(self.handle, action_array.ctypes.data, results), "stepping")
+        return np.ctypeslib.as_array(results)
+
+    def step_many(self, steps: int, actions: int, rewards: int, terminated: int, truncated: int, won: int) -> None:
+        """psc_step_many with raw addresses (host or device, as the backend wants)."""
+        status = self.lib.psc_step_many(self.handle, steps, actions, rewards, terminated, truncated, won)
+        self.check(status, "stepping")
+
+    def step_buffers(self) -> None:
+        self.check(self.lib.psc_step_buffers(self.handle), "stepping")
+
+    def observe(self, out: Optional[np.ndarray] = None) -> np.ndarray:
+        if out is None:
+            out = np.empty(self.observation_shape, dtype=np.uint8)
+        self.observe_into(out.ctypes.data, out.nbytes)
+        return out
+
+    def observe_into(self, address: int, size: int) -> None:
+        self.check(self.lib.psc_observe(self.handle, address, size), "observing")
+
+    def buffers(self) -> _abi.Buffers:
+        buffers = _abi.Buffers()
+        self.check(self.lib.psc_get_buffers(self.handle, ctypes.byref(buffers)), "getting the buffers")
+        return buffers
+
+    def set_stream(self, stream: int) -> None:
+        self.check(self.lib.psc_set_stream(self.handle, stream or None), "setting the stream")
+        self.stream = stream
+
+    def synchronize(self) -> None:
+        self.check(self.lib.psc_synchronize(self.handle), "synchronizing")
+
+    def rollout(self, steps: int, seed: int) -> _abi.RolloutStats:
+        stats = _abi.RolloutStats()
+        self.check(self.lib.psc_rollout(self.handle, steps, seed, ctypes.byref(stats)), "running the rollout")
+        return stats
+
+    def save_state(self, env: int) -> bytes:
+        size = self.lib.psc_state_size(self.handle)
+        buffer = ctypes.create_string_buffer(size)
+        self.check(self.lib.psc_save_state(self.handle, env, buffer, size), f"saving environment {env}")
+        return buffer.raw
+
+    def load_state(self, env: int, state: bytes) -> None:
+        if not isinstance(state, (bytes, bytearray)):
+            raise TypeError(f"a saved state is bytes (from clone_state), not {type(state).__name__}")
+        buffer = ctypes.create_string_buffer(bytes(state), len(state))
+        self.check(self.lib.psc_load_state(self.handle, env, buffer, len(state)), f"restoring environment {env}")
+
+    def dump_state(self, env: int) -> dict:
+        needed = ctypes.c_size_t(0)
+        status = self.lib.psc_dump_state(self.handle, env, None, 0, ctypes.byref(needed))
+        if status != _abi.ERROR_BUFFER_TOO_SMALL:  # the expected answer to the size query
+            self.check(status, f"dumping environment {env}")
+        buffer = ctypes.create_string_buffer(needed.value)
+        self.check(
+            self.lib.psc_dump_state(self.handle, env, buffer, needed.value, ctypes.byref(needed)),
+            f"dumping environment {env}",
+        )
+        return json.loads(buffer.value.decode("utf-8"))

@@ -1,0 +1,41 @@
+// Compiling a game's device code for CUDA: in process with NVRTC (the
+// default), or with nvcc.  Produces a cubin for the target architecture and
+// PTX for the driver to compile on other GPUs.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace psc {
+
+struct CudaCompileOptions {
+    std::string compiler = "nvrtc";  // nvrtc | nvcc
+    int architecture = 90;           // sm_90 (H100); PTX for compute_<architecture>
+    bool verbose = false;            // print the options and the resource report
+    bool syntaxOnly = false;         // NVRTC's front end only: checks the source, makes no code
+};
+
+struct CudaCompileResult {
+    bool ok = false;
+    std::vector<char> cubin;
+    std::string ptx;
+    std::string log;                   // compiler messages, with ptxas's resource report
+    std::vector<std::string> options;  // the exact options used
+    double seconds = 0;                // total compile time
+    // Stack a thread needs (ptxasStackBytes): the driver's default limit
+    // (1 KB) overflows in games whose state lives in local memory.
+    size_t stackBytes = 0;
+};
+
+// A bound on the stack any kernel needs: the stack frames of all functions in
+// a ptxas report, added up, plus kStackMargin.  ptxas's own "cumulative stack
+// size" leaves out the callees when the call graph has a cycle, and psc's has
+// one (a level won at a level's start loads the next level), although the
+// engine never goes round it twice in a row.
+constexpr size_t kStackMargin = 1024;
+size_t ptxasStackBytes(const std::string& log);
+
+bool cudaCompilerAvailable(const std::string& compiler);
+CudaCompileResult compileCuda(const std::string& source, const std::string& name, const CudaCompileOptions& options);
+
+}  // namespace psc

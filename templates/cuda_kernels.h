@@ -1,0 +1,117 @@
+// ---- psc template: CUDA kernels ---------------------------------------------
+// One thread per environment.  The stepping kernel copies its environment
+// into registers (local storage where it does not fit), runs any number of
+// steps on it, and writes it back once.
+
+namespace psc_game {
+
+__device__ PSC_INLINE UndoStack undoOf(const DeviceBatch& b, int i) {
+    UndoStack u;
+    u.entries = b.undoEntries + static_cast<unsigned long long>(i) * static_cast<unsigned long long>(b.undoDepth);
+    u.capacity = b.undoDepth;
+    u.count = b.undoDepth ? b.undoCount[i] : 0;
+    u.head = b.undoDepth ? b.undoHead[i] : 0;
+    return u;
+}
+
+__device__ PSC_INLINE void keepUndo(const DeviceBatch& b, int i, const UndoStack& u) {
+    if (!b.undoDepth) return;
+    b.undoCount[i] = u.count;
+    b.undoHead[i] = u.head;
+}
+
+__device__ PSC_INLINE unsigned long long warpSum(unsigned long long v) {
+    for (int offset = 16; offset > 0; offset >>= 1) v += __shfl_down_sync(0xffffffffu, v, offset);
+    return v;
+}
+
+}  // namespace psc_game
+
+// Restarts environments ids[k] at entries[k], with the seed seeds[k] (kSeedUnits units, lengths[k] used).
+// Level loads are rare: this kernel works on the environments in place.
+extern "C" __global__ void psc_reset_kernel(psc_game::DeviceBatch b, const int* ids, const int* entries,
+                                            const unsigned short* seeds, const unsigned char* lengths, int count) {
+    using namespace psc_game;
+    const int k = blockIdx.x * blockDim.x + threadIdx.x;
+    if (k >= count) return;
+    const int i = ids[k];
+    Env& e = b.envs[i];
+    e.levelEntry = entries[k];
+#if PSC_USES_RANDOM
+    for (int c = 0; c < kSeedUnits; ++c) e.seed[c] = seeds[k * kSeedUnits + c];
+    e.seedLength = lengths[k];
+#else
+    (void)seeds;
+    (void)lengths;
+#endif
+    UndoStack u = undoOf(b, i);
+    u.count = 0;
+    u.head = 0;
+    startEpisode(e, u);
+    keepUndo(b, i, u);
+}
+
+// `steps` steps of every environment, its state held by the thread
+// throughout.  Step k's action for environment i is actions[k * numEnvs + i],
+// or, when actions is NULL, drawn by randomAction(seed, i, firstStep + k).
+// Step k's results go to rewards/terminated/truncated/won[k * numEnvs + i]
+// where those are not NULL; totals go to b.stats; observations of the final
+// state to b.observations when `observe` is set.
+extern "C" __global__ void psc_run_kernel(psc_game::DeviceBatch b, int steps, const int* actions,
+                                          unsigned long long seed, int actionCount, unsigned long long firstStep,
+                                          float* rewards, unsigned char* terminated, unsigned char* truncated,
+                                          unsigned char* won, int observe) {
+    using namespace psc_game;
+    const int i = blockIdx.x * blockDim.x + threadIdx.x;
+    unsigned long long wins = 0;
+    unsigned long long episodes = 0;
+    unsigned long long done = 0;
+    unsigned long long badActions = 0;
+    if (i < b.numEnvs) {
+        Env e = b.envs[i];
+        UndoStack u = undoOf(b, i);
+        for (int k = 0; k < steps; ++k) {
+            const unsigned long long at = static_cast<unsigned long long>(k) * b.numEnvs + i;
+            const int action = actions ? actions[at]
+                                       : randomAction(seed, static_cast<u64>(i), firstStep + static_cast<u64>(k), actionCount);
+            if (action < 0 || action >= kInputCount) {
+                // Misuse: the step is skipped and psc_synchronize reports it.
+                ++badActions;
+                continue;
+            }
+            const StepOutcome o = stepEnvironment(e, u, action);
+            wins += o.won;
+            episodes += (o.terminated || o.truncated) ? 1u : 0u;
+            if (rewards) rewards[at] = o.reward;
+            if (terminated) terminated[at] = o.terminated;
+            if (truncated) truncated[at] = o.truncated;
+            if (won) won[at] = o.won;
+        }
+        done = static_cast<unsigned long long>(steps);
+        keepUndo(b, i, u);
+        b.episodeSteps[i] = e.episodeSteps;
+        b.envs[i] = e;
+        if (observe) {
+            const unsigned long long bytes = static_cast<unsigned long long>(b.channels) * b.maxWidth * b.maxHeight;
+            observeEnvironment(b.envs[i], b.channelObjects, b.channels, b.maxWidth, b.maxHeight, b.observations + bytes * i);
+        }
+    }
+    done = warpSum(done);
+    wins = warpSum(wins);
+    episodes = warpSum(episodes);
+    badActions = warpSum(badActions);
+    if ((threadIdx.x & 31) == 0 && done) {
+        atomicAdd(&b.stats[0], done - badActions);
+        atomicAdd(&b.stats[1], wins);
+        atomicAdd(&b.stats[2], episodes);
+        if (badActions) atomicAdd(&b.stats[3], badActions);
+    }
+}
+
+extern "C" __global__ void psc_observe_kernel(psc_game::DeviceBatch b) {
+    using namespace psc_game;
+    const int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= b.numEnvs) return;
+    const unsigned long long bytes = static_cast<unsigned long long>(b.channels) * b.maxWidth * b.maxHeight;
+    observeEnvironment(b.envs[i], b.channelObjects, b.channels, b.maxWidth, b.maxHeight, b.observations + bytes * i);
+}

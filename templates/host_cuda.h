@@ -1,0 +1,161 @@
+// ---- psc template: the CUDA backend's host side ----------------------------
+// Loads the game's kernels (cubin for the device's architecture, else PTX)
+// with the CUDA driver API, found at run time with dlopen so that the plugin
+// also loads on machines without a GPU, and keeps the batch in device memory.
+// Expects kCubin, kPtx (the compiled device code) and kStackBytes above.
+
+#include <dlfcn.h>
+
+struct psc_batch;
+
+namespace psc_game {
+namespace cuda {
+
+typedef int CUresult;
+typedef int CUdevice;
+typedef void* CUcontext;
+typedef void* CUmodule;
+typedef void* CUfunction;
+typedef void* CUstream;
+typedef unsigned long long CUdeviceptr;
+
+struct Driver {
+    CUresult (*cuInit)(unsigned);
+    CUresult (*cuDeviceGet)(CUdevice*, int);
+    CUresult (*cuDevicePrimaryCtxRetain)(CUcontext*, CUdevice);
+    CUresult (*cuDevicePrimaryCtxRelease)(CUdevice);
+    CUresult (*cuCtxSetCurrent)(CUcontext);
+    CUresult (*cuCtxGetLimit)(size_t*, int);
+    CUresult (*cuCtxSetLimit)(int, size_t);
+    CUresult (*cuModuleLoadData)(CUmodule*, const void*);
+    CUresult (*cuModuleUnload)(CUmodule);
+    CUresult (*cuModuleGetFunction)(CUfunction*, CUmodule, const char*);
+    CUresult (*cuMemAlloc)(CUdeviceptr*, size_t);
+    CUresult (*cuMemFree)(CUdeviceptr);
+    CUresult (*cuMemcpyHtoD)(CUdeviceptr, const void*, size_t);
+    CUresult (*cuMemcpyDtoH)(void*, CUdeviceptr, size_t);
+    CUresult (*cuMemsetD8)(CUdeviceptr, unsigned char, size_t);
+    CUresult (*cuLaunchKernel)(CUfunction, unsigned, unsigned, unsigned, unsigned, unsigned, unsigned, unsigned,
+                               CUstream, void**, void**);
+    CUresult (*cuStreamSynchronize)(CUstream);
+    CUresult (*cuGetErrorString)(CUresult, const char**);
+    bool loaded = false;
+    std::string error;
+};
+
+Driver& driver() {
+    static Driver d = [] {
+        Driver d{};
+        void* lib = dlopen("libcuda.so.1", RTLD_NOW | RTLD_LOCAL);
+        if (!lib) lib = dlopen("libcuda.so", RTLD_NOW | RTLD_LOCAL);
+        if (!lib) {
+            d.error = "the CUDA driver (libcuda.so.1) is not available";
+            return d;
+        }
+        bool ok = true;
+        auto load = [&](auto& fn, const char* name) {
+            fn = reinterpret_cast<std::remove_reference_t<decltype(fn)>>(dlsym(lib, name));
+            ok = ok && fn;
+        };
+        load(d.cuInit, "cuInit");
+        load(d.cuDeviceGet, "cuDeviceGet");
+        load(d.cuDevicePrimaryCtxRetain, "cuDevicePrimaryCtxRetain");
+        load(d.cuDevicePrimaryCtxRelease, "cuDevicePrimaryCtxRelease_v2");
+        load(d.cuCtxSetCurrent, "cuCtxSetCurrent");
+        load(d.cuCtxGetLimit, "cuCtxGetLimit");
+        load(d.cuCtxSetLimit, "cuCtxSetLimit");
+        load(d.cuModuleLoadData, "cuModuleLoadData");
+        load(d.cuModuleUnload, "cuModuleUnload");
+        load(d.cuModuleGetFunction, "cuModuleGetFunction");
+        load(d.cuMemAlloc, "cuMemAlloc_v2");
+        load(d.cuMemFree, "cuMemFree_v2");
+        load(d.cuMemcpyHtoD, "cuMemcpyHtoD_v2");
+        load(d.cuMemcpyDtoH, "cuMemcpyDtoH_v2");
+        load(d.cuMemsetD8, "cuMemsetD8_v2");
+        load(d.cuLaunchKernel, "cuLaunchKernel");
+        load(d.cuStreamSynchronize, "cuStreamSynchronize");
+        load(d.cuGetErrorString, "cuGetErrorString");
+        if (!ok) {
+            d.error = "the CUDA driver lacks functions psc needs";
+            return d;
+        }
+        if (CUresult r = d.cuInit(0)) {
+            d.error = "cuInit failed (error " + std::to_string(r) + ")";
+            return d;
+        }
+        d.loaded = true;
+        return d;
+    }();
+    return d;
+}
+
+int check(CUresult r, const char* what) {
+    if (r == 0) return PSC_OK;
+    const char* text = nullptr;
+    if (driver().cuGetErrorString) driver().cuGetErrorString(r, &text);
+    return fail(PSC_ERROR_DEVICE, std::string(what) + ": " + (text ? text : ("CUDA error " + std::to_string(r))));
+}
+
+struct Batch {
+    CUdevice device = 0;
+    CUcontext context = nullptr;
+    CUmodule module = nullptr;
+    CUfunction reset = nullptr;
+    CUfunction run = nullptr;
+    CUfunction observe = nullptr;
+    CUstream stream = nullptr;
+    DeviceBatch dev{};
+    std::vector<CUdeviceptr> allocations;
+    psc_buffers buffers{};
+    int autoReset = 0;
+    int maxEpisodeSteps = 0;
+    unsigned long long rolloutSteps = 0;  // steps run by rollouts so far (the random actions' counter)
+
+    ~Batch() {
+        Driver& d = driver();
+        d.cuCtxSetCurrent(context);
+        for (CUdeviceptr p : allocations) d.cuMemFree(p);
+        if (module) d.cuModuleUnload(module);
+        if (context) d.cuDevicePrimaryCtxRelease(device);
+    }
+    template <typename T>
+    int allocate(T** out, size_t count) {
+        CUdeviceptr p = 0;
+        if (int s = check(driver().cuMemAlloc(&p, std::max<size_t>(1, count * sizeof(T))), "allocating device memory")) return s;
+        allocations.push_back(p);
+        *out = reinterpret_cast<T*>(p);
+        return check(driver().cuMemsetD8(p, 0, std::max<size_t>(1, count * sizeof(T))), "clearing device memory");
+    }
+    int launch(CUfunction f, int threads, void** args) {
+        const unsigned block = 128;
+        const unsigned grid = static_cast<unsigned>((threads + block - 1) / block);
+        if (grid == 0) return PSC_OK;
+        return check(driver().cuLaunchKernel(f, grid, 1, 1, block, 1, 1, 0, stream, args, nullptr), "launching a kernel");
+    }
+    int sync() { return check(driver().cuStreamSynchronize(stream), "waiting for the device"); }
+};
+
+Batch* of(const psc_batch* b);
+
+}  // namespace cuda
+}  // namespace psc_game
+
+static bool psc_cuda_owns(const psc_batch* b);
+
+static int psc_cuda_batch_create(const psc_batch_options* options, psc_batch** out);
+static bool psc_cuda_batch_destroy(psc_batch* b);
+static int psc_cuda_reset_entries(psc_batch* b, const int32_t* envIds, int32_t count, const int32_t* entries,
+                                  const std::vector<std::u16string>& seeds);
+static int psc_cuda_reset(psc_batch* b, const int32_t* envIds, int32_t count, const int32_t* levels, const uint64_t* seeds);
+static int psc_cuda_step(psc_batch* b, const int32_t* actions, psc_step_result* results);
+static int psc_cuda_step_many(psc_batch* b, int32_t steps, const int32_t* actions, float* rewards, uint8_t* terminated,
+                              uint8_t* truncated, uint8_t* won);
+static int psc_cuda_observe(psc_batch* b, uint8_t* observations, size_t size);
+static int psc_cuda_get_buffers(psc_batch* b, psc_buffers* buffers);
+static int psc_cuda_step_buffers(psc_batch* b);
+static int psc_cuda_set_stream(psc_batch* b, void* stream);
+static int psc_cuda_synchronize(psc_batch* b);
+static int psc_cuda_rollout(psc_batch* b, int32_t steps, uint64_t seed, psc_rollout_stats* stats);
+static int psc_cuda_fetch_env(const psc_batch* b, int env, psc_game::Env* out);
+static int psc_cuda_read_state(const psc_batch* b, int env, psc_game::Env* out, std::vector<psc_game::Snapshot>& undo);
+static int psc_cuda_write_state(psc_batch* b, int env, const psc_game::Env& in, const std::vector<psc_game::Snapshot>& undo);

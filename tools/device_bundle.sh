@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Gathers what the GPU checks need on the device machine into device/ (git-ignored;
+# name it in the device call's `carry`): the psc binary and the shared
+# libraries it needs that the device image lacks, and the corpus cases to replay
+# (every testsuite trace and a spread sample of scraped traces), compressed.
+#   tools/device_bundle.sh [SCRAPED_SAMPLE]      (default 400)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+sample=${1:-400}
+corpus=../shared/corpus
+rm -rf device && mkdir -p device/bin device/lib
+cp build/cli/psc device/bin/
+strip device/bin/psc
+for lib in libantlr4-runtime.so.4.9 libfmt.so.9; do cp "$(ldconfig -p | awk -v l=$lib '$1 == l {print $NF; exit}')" device/lib/; done
+stage=$(mktemp -d)
+/usr/bin/python3 - "$corpus" "$stage" "$sample" <<'PY'
+import json, os, shutil, sys
+sys.path.insert(0, "tools")
+corpus, stage, sample = sys.argv[1], sys.argv[2], int(sys.argv[3])
+index = json.load(open(os.path.join(corpus, "INDEX.json")))
+traces = [e for e in index if e["kind"] == "trace"]
+from corpus_replay import sample_cases
+chosen = [e for e in traces if e["suite"] == "testsuite"]
+chosen += sample_cases([e for e in traces if e["suite"] == "scraped"], sample)
+for e in chosen:
+    os.makedirs(os.path.dirname(os.path.join(stage, e["path"])), exist_ok=True)
+    shutil.copy(os.path.join(corpus, e["path"]), os.path.join(stage, e["path"]))
+json.dump(chosen, open(os.path.join(stage, "INDEX.json"), "w"))
+print(f"{len(chosen)} cases")
+PY
+tar -cJf device/corpus.tar.xz -C "$stage" .
+rm -rf "$stage"
+du -sh device

@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# The GPU checks, run on the device machine from the repository root with
+# device/ carried (tools/device_bundle.sh makes it).  Stages, in the order given:
+#   compile   NVRTC time and ptxas resource report of each benchmark game
+#   bench     psc bench --backend cuda, batch sweep, for each benchmark game
+#   replay    every carried corpus trace replayed on the GPU, states dumped
+#             (compare with the CPU: tools/compare_dumps.py)
+#   sanitize  compute-sanitizer memcheck on a sample of replays and a rollout
+#   python    the Python package on the GPU: zero-copy views, CUDA tests, PPO
+#             (plugins prebuilt here into out/python-gpu, carried)
+# GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite;
+# SANITIZE_EVERY picks every Nth carried case for the sanitizer.
+# Results go to $OUT (default out/gpu).   tools/gpu_check.sh compile bench
+set -uo pipefail
+cd "$(dirname "$0")/.."
+out=${OUT:-out/gpu}
+mkdir -p "$out"
+export LD_LIBRARY_PATH=$PWD/device/lib:/usr/local/cuda/lib64:${LD_LIBRARY_PATH:-}
+export XDG_CACHE_HOME=${XDG_CACHE_HOME:-/tmp/psc-cache}
+psc=$PWD/device/bin/psc
+corpus=/tmp/psc-corpus
+if [ ! -f $corpus/INDEX.json ]; then mkdir -p $corpus && tar -xJf device/corpus.tar.xz -C $corpus; fi
+jobs=$(nproc)
+python=$(command -v python3)
+batches=${BATCHES:-1,1024,16384,131072,1048576,4194304}
+
+for stage in "$@"; do
+    echo "== $stage"
+    case $stage in
+    compile)
+        tools/cuda_compile_times.sh "$psc" auto | tee "$out/compile_times.txt"
+        for game in bench/games/*.txt; do
+            echo "# $(basename "$game" .txt)"
+            XDG_CACHE_HOME=$(mktemp -d) "$psc" "$game" --emit ptx --levels 0 --verbose 2>&1 >/dev/null |
+                grep -E "options|psc_run_kernel|Used|spill|CUDA compile" | grep -B1 -A2 "psc_run_kernel" 
+        done > "$out/resources.txt" 2>&1
+        ;;
+    bench)
+        mkdir -p "$out/bench"
+        for name in ${GAMES:-$(cd bench/games && ls *.txt | sed 's/.txt$//')}; do
+            game=bench/games/$name.txt
+            "$psc" bench "$game" --backend cuda --batch "$batches" --repeats 5 --warmup 1 ${BENCH_FLAGS:-} \
+                > "$out/bench/$name.txt" 2>&1
+            echo "$name: $(tail -1 "$out/bench/$name.txt")"
+        done
+        ;;
+    replay)
+        for suite in testsuite scraped; do
+            timeout "${REPLAY_SECONDS:-3000}" $python tools/corpus_replay.py --psc "$psc" --corpus $corpus --suite $suite --backend cuda \
+                --jobs "$jobs" --dumps /tmp/psc-dumps/$suite --json "$out/${suite}_cuda.json" | tail -5
+        done
+        ;;
+    sanitize)
+        mkdir -p "$out/sanitize"
+        for id in $($python -c "import json; d=json.load(open('$corpus/INDEX.json')); print(' '.join(e['path'] for e in d[::${SANITIZE_EVERY:-60}]))"); do
+            name=$(basename "$id" .json)
+            compute-sanitizer --tool memcheck --error-exitcode 9 "$psc" replay "$corpus/$id" --backend cuda \
+                > "$out/sanitize/$name.txt" 2>&1
+            echo "$name: exit $? $(grep -c 'Invalid' "$out/sanitize/$name.txt") invalid accesses"
+        done
+        compute-sanitizer --tool memcheck --error-exitcode 9 "$psc" bench bench/games/sokoban.txt --backend cuda \
+            --batch 1,1000 --steps 50 --repeats 1 --warmup 0 > "$out/sanitize/bench_sokoban.txt" 2>&1
+        echo "bench sokoban: exit $? $(grep -c 'Invalid' "$out/sanitize/bench_sokoban.txt") invalid accesses"
+        ;;
+    python)
+        export PYTHONUNBUFFERED=1
+        $python examples/gpu_zero_copy.py --plugin out/python-gpu/gems.so 2>&1 | tee "$out/python_zero_copy.txt"
+        PSC_CUDA_PLUGIN=out/python-gpu/gems.so $python -m pytest python/tests/test_cuda.py -v -rs -p no:cacheprovider \
+            2>&1 | tee "$out/python_test_cuda.txt" | tail -15
+        $python examples/ppo.py --plugin out/python-gpu/sokoban.so --csv "$out/ppo_log.csv" \
+            --time-limit "${PPO_SECONDS:-170}" 2>&1 | tee "$out/ppo.txt" | tail -8
+        ;;
+    *) echo "unknown stage $stage"; exit 2 ;;
+    esac
+done
