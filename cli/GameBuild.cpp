@@ -70,7 +70,8 @@ std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const s
                                                    const std::string& path, const GameBuildOptions& options) {
     const codegen::SourceOptions so = sourceOptions(text, path, options);
     const std::string source = codegen::cudaSource(game, so);
-    const std::string key = sha1Hex(fmt::format("{}\n{}\n{}", options.cuda.compiler, options.cuda.architecture, source));
+    const std::string key = sha1Hex(fmt::format("{}\n{}\n{}\n{}", options.cuda.compiler, options.cuda.architecture,
+                                                 options.cuda.fastCompile, source));
     const fs::path dir = options.build.cacheDir.empty() ? defaultCacheDir() : options.build.cacheDir;
     const fs::path cubinPath = dir / (key + ".cubin");
     const fs::path ptxPath = dir / (key + ".ptx");

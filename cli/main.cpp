@@ -127,6 +127,10 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"cpu", "cuda", "all"}));
     app.add_option("--compiler", cudaCompiler, "CUDA compiler")->check(CLI::IsMember({"nvrtc", "nvcc"}));
     app.add_option("--arch", cudaArch, "CUDA architecture (90: sm_90, H100)");
+    std::string fastCompile = CudaCompileOptions{}.fastCompile;
+    const auto fastCompileLevels = CLI::IsMember({"0", "min", "mid", "max"});
+    const char* fastCompileHelp = "CUDA -Ofast-compile level: 0 (full optimisation), min, mid, max";
+    app.add_option("--fast-compile", fastCompile, fastCompileHelp)->check(fastCompileLevels);
     app.add_option("--gpu-state", gpuState, "where the GPU keeps each environment's state")
         ->check(CLI::IsMember({"auto", "registers", "memory"}));
     app.add_flag("--verbose", verbose, "print the compiler command and cache use");
@@ -147,6 +151,7 @@ int main(int argc, char** argv) {
     CLI::App* replay = app.add_subcommand("replay", "replay a corpus trace case and compare every state with it");
     replay->add_option("case", replayOptions.casePath, "the case file (JSON)")->required();
     replay->add_option("--backend", replayOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
+    replay->add_option("--fast-compile", replayOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     replay->add_option("--dump", replayOptions.dumpPath, "write every state as a JSON line to this file");
     replay->add_flag("--verbose", replayOptions.build.build.verbose, "print the compiler command and cache use");
 
@@ -160,6 +165,7 @@ int main(int argc, char** argv) {
     bench->add_option("--repeats", benchOptions.repeats, "timed runs (the median is reported)");
     bench->add_option("--warmup", benchOptions.warmup, "untimed runs first");
     bench->add_option("--backend", benchOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
+    bench->add_option("--fast-compile", benchOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     bench->add_flag("--native", benchOptions.build.build.native, "compile for this machine (-march=native)");
     bench->add_flag("--all-levels", benchOptions.allLevels, "build the plugin for every level, not only the one measured");
     bench->add_flag("--verbose", benchOptions.build.build.verbose, "print the compiler command and cache use");
@@ -186,6 +192,7 @@ int main(int argc, char** argv) {
         options.target = target;
         options.cuda.compiler = cudaCompiler;
         options.cuda.architecture = cudaArch;
+        options.cuda.fastCompile = fastCompile;
         options.cuda.verbose = verbose;
         options.gpuState = gpuState;
         return runBuild(game, output, options);
@@ -203,6 +210,7 @@ int main(int argc, char** argv) {
         gb.target = "cuda";
         gb.cuda.compiler = cudaCompiler;
         gb.cuda.architecture = cudaArch;
+        gb.cuda.fastCompile = fastCompile;
         gb.build.verbose = verbose;
         gb.gpuState = gpuState;
         auto compiled = cli::compileForBuild(*source, game, gb);

@@ -28,8 +28,10 @@ std::string readAll(const fs::path& p) {
     return ss.str();
 }
 
-std::vector<std::string> commonOptions() {
-    return {"-std=c++17", "-default-device", "-Xptxas=-v", "-DPSC_CUDA=1"};
+std::vector<std::string> commonOptions(const CudaCompileOptions& options) {
+    std::vector<std::string> o = {"-std=c++17", "-default-device", "-Xptxas=-v", "-DPSC_CUDA=1"};
+    if (options.fastCompile != "0") o.push_back("-Ofc=" + options.fastCompile);
+    return o;
 }
 
 #if PSC_HAVE_NVRTC
@@ -44,13 +46,20 @@ std::string programLog(nvrtcProgram program) {
 
 // One NVRTC compilation for a real architecture: NVRTC keeps the PTX it lowered to
 // the cubin, so both come from the same run.
-bool nvrtcCompile(const std::string& source, const std::string& name, int arch, bool syntaxOnly, CudaCompileResult& r) {
+bool nvrtcCompile(const std::string& source, const std::string& name, const CudaCompileOptions& options, CudaCompileResult& r) {
+    const int arch = options.architecture;
+    const bool syntaxOnly = options.syntaxOnly;
+    // NVRTC (12.9+) shares the driver's compute cache, and a hit there returns
+    // a cubin without ptxas's report, which sizes the kernels' stack
+    // (ptxasStackBytes).  psc caches whole results itself, so that cache is
+    // turned off; NVRTC reads the variable once, at its first compilation.
+    setenv("CUDA_CACHE_DISABLE", "1", 1);
     nvrtcProgram program;
     if (nvrtcCreateProgram(&program, source.c_str(), name.c_str(), 0, nullptr, nullptr) != NVRTC_SUCCESS) {
         r.log += "NVRTC could not create the program\n";
         return false;
     }
-    r.options = commonOptions();
+    r.options = commonOptions(options);
     r.options.push_back(fmt::format("--gpu-architecture=sm_{}", arch));
     if (syntaxOnly) r.options.push_back("-fdevice-syntax-only");
     std::vector<const char*> argv;
@@ -84,7 +93,8 @@ std::string nvccPath() {
     return "nvcc";
 }
 
-bool nvccCompile(const std::string& source, const std::string& name, int arch, CudaCompileResult& r) {
+bool nvccCompile(const std::string& source, const std::string& name, const CudaCompileOptions& options, CudaCompileResult& r) {
+    const int arch = options.architecture;
     const fs::path dir = fs::temp_directory_path() / fmt::format("psc-nvcc-{}", static_cast<long>(getpid()));
     std::error_code ec;
     fs::create_directories(dir, ec);
@@ -93,7 +103,8 @@ bool nvccCompile(const std::string& source, const std::string& name, int arch, C
         std::ofstream out(cu);
         out << source;
     }
-    const std::string common = "-std=c++17 -Xptxas=-v -DPSC_CUDA=1";
+    const std::string common = std::string("-std=c++17 -Xptxas=-v -DPSC_CUDA=1") +
+                               (options.fastCompile != "0" ? " -Ofc=" + options.fastCompile : "");
     const std::string cubinCmd = fmt::format("{} {} -cubin -arch=sm_{} -o '{}' '{}'", nvccPath(), common, arch,
                                              (dir / "out.cubin").string(), cu.string());
     const std::string ptxCmd = fmt::format("{} {} -ptx -arch=compute_{} -o '{}' '{}'", nvccPath(), common, arch,
@@ -142,15 +153,21 @@ CudaCompileResult compileCuda(const std::string& source, const std::string& name
     CudaCompileResult r;
     const auto start = std::chrono::steady_clock::now();
     if (options.compiler == "nvcc") {
-        r.ok = nvccCompile(source, name, options.architecture, r);
+        r.ok = nvccCompile(source, name, options, r);
     } else {
 #if PSC_HAVE_NVRTC
-        r.ok = nvrtcCompile(source, name, options.architecture, options.syntaxOnly, r);
+        r.ok = nvrtcCompile(source, name, options, r);
 #else
         r.log = "this psc was built without NVRTC (the CUDA Toolkit was not found)";
 #endif
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (r.ok && !options.syntaxOnly && r.log.find(" bytes stack frame") == std::string::npos) {
+        // Without the report the stack limit would be a guess, and too small a
+        // one is an illegal memory access at run time.
+        r.ok = false;
+        r.log += "the compiler gave no ptxas resource report (needed to size the kernels' stack)\n";
+    }
     r.stackBytes = ptxasStackBytes(r.log);
     return r;
 }

@@ -13,6 +13,9 @@ struct CudaCompileOptions {
     int architecture = 90;           // sm_90 (H100); PTX for compute_<architecture>
     bool verbose = false;            // print the options and the resource report
     bool syntaxOnly = false;         // NVRTC's front end only: checks the source, makes no code
+    // The compilers' -Ofast-compile level: 0 (full optimisation), min, mid or
+    // max (fastest compile); docs/performance.md measures what each costs.
+    std::string fastCompile = "0";
 };
 
 struct CudaCompileResult {

@@ -2,8 +2,8 @@
 """Replays corpus trace cases with `psc replay` and reports pass counts.
 
     tools/corpus_replay.py [--psc build/cli/psc] [--corpus ../shared/corpus]
-                           [--suite testsuite|scraped] [--jobs N] [--sample N]
-                           [--backend cpu|cuda] [--dumps DIR] [--json report.json]
+                           [--suite testsuite|scraped|all] [--jobs N] [--sample N]
+                           [--backend cpu|cuda] [--fast-compile LEVEL] [--dumps DIR] [--json report.json]
                            [--min PERCENT] [IDS...]
 
 Each case is replayed in its own process (a crash or hang in one case cannot
@@ -77,12 +77,13 @@ def main():
     ap.add_argument("--json", default="")
     ap.add_argument("--min", type=float, default=0.0)
     ap.add_argument("--backend", default="cpu")
+    ap.add_argument("--fast-compile", default="", help="psc replay's --fast-compile (CUDA)")
     ap.add_argument("--dumps", default="", help="write every case's states to this folder")
     ap.add_argument("--ids-file", default="", help="replay the case ids listed in this file (one a line)")
     ap.add_argument("ids", nargs="*")
     a = ap.parse_args()
 
-    cases = [e for e in load_index(a.corpus) if e["kind"] == "trace" and e["suite"] == a.suite]
+    cases = [e for e in load_index(a.corpus) if e["kind"] == "trace" and a.suite in ("all", e["suite"])]
     ids = set(a.ids)
     if a.ids_file:
         with open(a.ids_file) as f:
@@ -92,7 +93,7 @@ def main():
         cases = sorted((e for e in cases if e["id"] in ids), key=lambda e: order[e["id"]])
     if a.sample:
         cases = sample_cases(cases, a.sample)
-    extra = ["--backend", a.backend]
+    extra = ["--backend", a.backend] + (["--fast-compile", a.fast_compile] if a.fast_compile else [])
     if a.dumps:
         os.makedirs(a.dumps, exist_ok=True)
     results = []

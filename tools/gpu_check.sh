@@ -2,12 +2,14 @@
 # The GPU checks, run on the device machine from the repository root with
 # device/ carried (tools/device_bundle.sh makes it).  Stages, in the order given:
 #   compile   NVRTC time and ptxas resource report of each benchmark game
+#   prebuild  the benchmark games' CUDA plugins built in parallel (bench then finds them cached)
 #   bench     psc bench --backend cuda, batch sweep, for each benchmark game
 #   replay    every carried corpus trace replayed on the GPU, states dumped
 #             (compare with the CPU: tools/compare_dumps.py)
 #   sanitize  compute-sanitizer memcheck on a sample of replays and a rollout
 #   python    the Python package on the GPU: zero-copy views, CUDA tests, PPO
 #             (plugins prebuilt here into out/python-gpu, carried)
+# FAST_COMPILE sets psc's --fast-compile (compile, prebuild, bench, replay);
 # GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite;
 # SANITIZE_EVERY picks every Nth carried case for the sanitizer.
 # Results go to $OUT (default out/gpu).   tools/gpu_check.sh compile bench
@@ -23,30 +25,39 @@ if [ ! -f $corpus/INDEX.json ]; then mkdir -p $corpus && tar -xJf device/corpus.
 jobs=$(nproc)
 python=$(command -v python3)
 batches=${BATCHES:-1,1024,16384,131072,1048576,4194304}
+fast=(${FAST_COMPILE:+--fast-compile "$FAST_COMPILE"})
 
 for stage in "$@"; do
     echo "== $stage"
     case $stage in
     compile)
-        tools/cuda_compile_times.sh "$psc" auto | tee "$out/compile_times.txt"
+        # One fresh NVRTC compile per game (empty cache), its log kept: the
+        # compile time and the stepping kernel's registers, stack and spills.
+        mkdir -p "$out/compile"
         for game in bench/games/*.txt; do
-            echo "# $(basename "$game" .txt)"
-            XDG_CACHE_HOME=$(mktemp -d) "$psc" "$game" --emit ptx --levels 0 --verbose 2>&1 >/dev/null |
-                grep -E "options|psc_run_kernel|Used|spill|CUDA compile" | grep -B1 -A2 "psc_run_kernel" 
-        done > "$out/resources.txt" 2>&1
+            name=$(basename "$game" .txt)
+            XDG_CACHE_HOME=$(mktemp -d) "$psc" "$game" --emit ptx --levels 0 --verbose "${fast[@]}" 2>"$out/compile/$name.log" >/dev/null
+            printf '%-16s %8s s  %s\n' "$name" "$(sed -n 's/.*CUDA compile (nvrtc) \([0-9.]*\) s.*/\1/p' "$out/compile/$name.log")" \
+                "$(grep -A3 "entry function 'psc_run_kernel'" "$out/compile/$name.log" | grep -E 'stack frame|Used' | sed 's/.*ptxas[ a-z]*: *\.* *//' | tr '\n' ' ')"
+        done | tee "$out/compile_times.txt"
+        ;;
+    prebuild)
+        # Builds the benchmark plugins in parallel into the cache that bench reads.
+        ls bench/games/*.txt | xargs -P "$jobs" -I{} sh -c 'p=$0 g=$1; shift; "$p" "$g" -o "/tmp/$(basename "$g" .txt).so" --target cuda --levels 0 "$@"' \
+            "$psc" {} "${fast[@]}"
         ;;
     bench)
         mkdir -p "$out/bench"
         for name in ${GAMES:-$(cd bench/games && ls *.txt | sed 's/.txt$//')}; do
             game=bench/games/$name.txt
-            "$psc" bench "$game" --backend cuda --batch "$batches" --repeats 5 --warmup 1 ${BENCH_FLAGS:-} \
+            "$psc" bench "$game" --backend cuda --batch "$batches" --repeats 5 --warmup 1 "${fast[@]}" \
                 > "$out/bench/$name.txt" 2>&1
             echo "$name: $(tail -1 "$out/bench/$name.txt")"
         done
         ;;
     replay)
         for suite in testsuite scraped; do
-            timeout "${REPLAY_SECONDS:-3000}" $python tools/corpus_replay.py --psc "$psc" --corpus $corpus --suite $suite --backend cuda \
+            timeout "${REPLAY_SECONDS:-3000}" $python tools/corpus_replay.py --psc "$psc" --corpus $corpus --suite $suite --backend cuda "${fast[@]}" \
                 --jobs "$jobs" --dumps /tmp/psc-dumps/$suite --json "$out/${suite}_cuda.json" | tail -5
         done
         ;;
