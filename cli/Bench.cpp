@@ -59,6 +59,7 @@ int runBench(const BenchOptions& o) {
         }
     }
     std::vector<Row> rows;
+    bool failed = false;
     fmt::print("{:>10} {:>8} {:>16} {:>16} {:>16}\n", "batch", "steps", "median steps/s", "min steps/s", "max steps/s");
     try {
         for (int n : batches) {
@@ -101,14 +102,16 @@ int runBench(const BenchOptions& o) {
                        rows.back().max);
         }
     } catch (const std::exception& e) {
+        // Batch sizes measured before the failure (often: out of device memory) are still reported.
         fmt::print(stderr, "psc bench: {}\n", e.what());
-        return 2;
+        if (rows.empty()) return 2;
+        failed = true;
     }
     const Row best = *std::max_element(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.median < b.median; });
     fmt::print("game {} level {} backend {}{}{}; best batch {}\n", o.gamePath, o.level, o.backend,
                cuda ? "" : fmt::format(" threads {}", o.threads), o.allLevels ? " (all levels built)" : "", best.batch);
     fmt::print("steps/s: {:.0f}\n", best.median);
-    return 0;
+    return failed ? 2 : 0;
 }
 
 }  // namespace psc::cli
