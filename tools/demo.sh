@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds psc and runs it on a bundled game.
+# Installs dependencies, builds psc, then compiles the bundled game
+# games/sokoban.txt into a plugin and plays it (CLI benchmark, Python rollout).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -12,3 +13,10 @@ echo "== psc check $game"
 build/cli/psc check "$game" && echo "ok"
 echo "== psc $game --emit ir"
 build/cli/psc "$game" --emit ir
+echo "== psc $game -o out/sokoban.so  (the step-function plugin)"
+mkdir -p out
+build/cli/psc "$game" -o out/sokoban.so --target cpu
+echo "== psc bench $game  (random play, one thread)"
+build/cli/psc bench "$game" --level 0 --batch 1,256 --threads 1 --repeats 3
+echo "== a random rollout through the Python package"
+/usr/bin/python3 examples/random_rollout.py --game "$game" --steps 200
