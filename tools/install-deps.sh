@@ -8,7 +8,7 @@ packages=(
   cmake ninja-build g++ pkg-config
   antlr4 libantlr4-runtime-dev default-jre-headless
   libfmt-dev libcli11-dev catch2 nlohmann-json3-dev
-  python3 python3-numpy python3-pytest
+  python3 python3-numpy python3-pytest python3-pil
 )
 
 missing=()
