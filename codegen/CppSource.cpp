@@ -18,6 +18,11 @@ using ir::Game;
 
 constexpr const char* kGeneratorVersion = "psc 0.1.0";
 
+// Boards of more words than this (levels over 512 cells) keep their word
+// loops rolled on the GPU and their state in local memory: unrolled, code size
+// and NVRTC time grow with the level's area (a 5,000-cell level took minutes).
+constexpr int kMaxUnrolledBoardWords = 8;
+
 std::string cString(const std::string& utf8) { return json::quote(utf8); }
 
 int positionOf(int x, int y, int height) { return x * (height + 1) + y; }
@@ -91,6 +96,8 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o) {
     out.line(fmt::format("#define PSC_HAS_RIGID {}", g.hasRigid ? 1 : 0));
     out.line(fmt::format("#define PSC_STATE_IN_REGISTERS {}  // the GPU's state layout (templates/core.h)",
                          gpuStateInRegisters(g, o) ? 1 : 0));
+    out.line(fmt::format("#define PSC_UNROLL_BOARD_WORDS {}  // the GPU unrolls loops over objects, layers and words",
+                         gpuStateInRegisters(g, o) || boardWords(g, o) <= kMaxUnrolledBoardWords ? 1 : 0));
     out.line();
     out.open("namespace psc_game");
     out.line(fmt::format("constexpr int kObjects = {};  // object ids, ghost ids included", std::max(1, g.objectCount)));
@@ -449,6 +456,7 @@ int boardWords(const ir::Game& game, const SourceOptions& options) {
 
 bool gpuStateInRegisters(const ir::Game& game, const SourceOptions& options) {
     if (options.gpuState != "auto") return options.gpuState == "registers";
+    if (boardWords(game, options) > kMaxUnrolledBoardWords) return false;
     // Registers make ptxas unroll every word of every board access into the
     // rules, so compile time grows with rule code times board words; past this
     // size (measured on the 13 benchmark games, docs/performance.md) NVRTC

@@ -35,7 +35,15 @@
 #define PSC_LAYER __noinline__
 #endif
 #define PSC_TABLE __device__ const
+// Loops over objects, layers and a board's words are unrolled for boards of
+// a few words (PSC_UNROLL_BOARD_WORDS, set above), whose state then fits in
+// registers; larger boards live in local memory, and unrolled loops would only
+// grow the code, and NVRTC's time, with the level's area.
+#if PSC_UNROLL_BOARD_WORDS
 #define PSC_UNROLL _Pragma("unroll")
+#else
+#define PSC_UNROLL _Pragma("unroll 1")
+#endif
 #else
 #define PSC_DEVICE
 // Forced inlining when optimising (unoptimised builds of very large games
@@ -87,6 +95,18 @@ constexpr bool kSelectWords = false;
 // One bit per cell position.
 struct Board {
     u64 w[kWords];
+
+#if defined(__CUDA_ARCH__) && !PSC_UNROLL_BOARD_WORDS
+    // A large board is copied by a loop: the implicit copy would become one
+    // load and one store per word at every copy (minutes of NVRTC time on a
+    // 5,000-cell level).
+    Board() = default;
+    PSC_DEVICE PSC_INLINE Board(const Board& o) { *this = o; }
+    PSC_DEVICE PSC_INLINE Board& operator=(const Board& o) {
+        PSC_UNROLL for (int i = 0; i < kWords; ++i) w[i] = o.w[i];
+        return *this;
+    }
+#endif
 
     PSC_DEVICE PSC_INLINE static Board zero() {
         Board b;
