@@ -10,7 +10,8 @@
 #   python    the Python package on the GPU: zero-copy views, CUDA tests, PPO
 #             (plugins prebuilt here into out/python-gpu, carried)
 # FAST_COMPILE sets psc's --fast-compile (compile, prebuild, bench, replay);
-# GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite;
+# GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
+# REPLAY_IDS (a file of case ids) limits it to some cases;
 # SANITIZE_EVERY picks every Nth carried case for the sanitizer.
 # Results go to $OUT (default out/gpu).   tools/gpu_check.sh compile bench
 set -uo pipefail
@@ -19,6 +20,10 @@ out=${OUT:-out/gpu}
 mkdir -p "$out"
 export LD_LIBRARY_PATH=$PWD/device/lib:/usr/local/cuda/lib64:${LD_LIBRARY_PATH:-}
 export XDG_CACHE_HOME=${XDG_CACHE_HOME:-/tmp/psc-cache}
+# CUDA code compiled beforehand on the development machine (tools/device_prebuild.sh).
+if [ -f device/cache.tar.xz ] && [ ! -d "$XDG_CACHE_HOME/psc" ]; then
+    mkdir -p "$XDG_CACHE_HOME" && tar -xJf device/cache.tar.xz -C "$XDG_CACHE_HOME"
+fi
 psc=$PWD/device/bin/psc
 corpus=/tmp/psc-corpus
 if [ ! -f $corpus/INDEX.json ]; then mkdir -p $corpus && tar -xJf device/corpus.tar.xz -C $corpus; fi
@@ -58,7 +63,7 @@ for stage in "$@"; do
     replay)
         for suite in testsuite scraped; do
             timeout "${REPLAY_SECONDS:-3000}" $python tools/corpus_replay.py --psc "$psc" --corpus $corpus --suite $suite --backend cuda "${fast[@]}" \
-                --jobs "$jobs" --dumps /tmp/psc-dumps/$suite --json "$out/${suite}_cuda.json" | tail -5
+                --jobs "$jobs" --dumps /tmp/psc-dumps/$suite --json "$out/${suite}_cuda.json" ${REPLAY_IDS:+--ids-file "$REPLAY_IDS"} | tail -5
         done
         ;;
     sanitize)
