@@ -94,10 +94,11 @@ std::pair<int, int> fixedSize(const Game& g, const SourceOptions& o) {
 void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o) {
     out.line(fmt::format("#define PSC_USES_RANDOM {}", usesRandom(g) ? 1 : 0));
     out.line(fmt::format("#define PSC_HAS_RIGID {}", g.hasRigid ? 1 : 0));
+    const bool inRegisters = gpuStateInRegisters(g, o);  // generates the rules once to size them
     out.line(fmt::format("#define PSC_STATE_IN_REGISTERS {}  // the GPU's state layout (templates/core.h)",
-                         gpuStateInRegisters(g, o) ? 1 : 0));
+                         inRegisters ? 1 : 0));
     out.line(fmt::format("#define PSC_UNROLL_BOARD_WORDS {}  // the GPU unrolls loops over objects, layers and words",
-                         gpuStateInRegisters(g, o) || boardWords(g, o) <= kMaxUnrolledBoardWords ? 1 : 0));
+                         inRegisters || boardWords(g, o) <= kMaxUnrolledBoardWords ? 1 : 0));
     out.line();
     out.open("namespace psc_game");
     out.line(fmt::format("constexpr int kObjects = {};  // object ids, ghost ids included", std::max(1, g.objectCount)));
