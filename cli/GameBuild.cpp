@@ -30,6 +30,7 @@ codegen::SourceOptions sourceOptions(const std::string& text, const std::string&
     so.levels = options.levels;
     so.target = options.target == "cpu" ? "cpu" : "cuda";
     so.gpuState = options.gpuState;
+    so.cudaUnits = options.cudaUnits;
     return so;
 }
 
@@ -52,6 +53,21 @@ void writeFile(const fs::path& p, const std::string& data) {
     }
     std::error_code ec;
     fs::rename(tmp, p, ec);
+}
+
+// The compile units' PTX texts in one cache file, separated by NUL bytes.
+std::string joinUnits(const std::vector<std::string>& ptx) {
+    std::string out;
+    for (size_t k = 0; k < ptx.size(); ++k) out += (k ? std::string(1, '\0') : std::string()) + ptx[k];
+    return out;
+}
+std::vector<std::string> splitUnits(const std::string& text) {
+    std::vector<std::string> units(1);
+    for (char c : text) {
+        if (c == '\0') units.emplace_back();
+        else units.back() += c;
+    }
+    return units;
 }
 
 // ptxas's per-kernel lines (registers, spills, shared memory).
@@ -82,7 +98,8 @@ std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const s
         r.ok = true;
         const std::string cubin = readFile(cubinPath);
         r.cubin.assign(cubin.begin(), cubin.end());
-        r.ptx = readFile(ptxPath);
+        r.ptx = splitUnits(readFile(ptxPath));
+        r.units = static_cast<int>(r.ptx.size());
         r.log = readFile(logPath);
         r.stackBytes = ptxasStackBytes(r.log);
         if (options.build.verbose) fmt::print(stderr, "psc: CUDA code from the cache ({})\n", cubinPath.string());
@@ -97,16 +114,25 @@ std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const s
         std::string opts;
         for (const auto& o : r.options) opts += " " + o;
         fmt::print(stderr, "psc: {} options:{}\n", options.cuda.compiler, opts);
+        if (r.units > 1) {
+            std::string link;
+            for (const auto& o : r.linkOptions) link += " " + o;
+            std::string times;
+            for (double t : r.unitSeconds) times += fmt::format(" {:.2f}", t);
+            fmt::print(stderr, "psc: {} compile units at once (-DPSC_UNIT=0..{}), linked by nvJitLink:{}; unit seconds:{}\n",
+                       r.units, r.units - 1, link, times);
+        }
         printResourceReport(r.log);
     }
     if (!r.ok) {
         fmt::print(stderr, "{}: error: compiling the CUDA code failed\n{}\n", path, r.log);
         return std::nullopt;
     }
-    fmt::print(stderr, "psc: CUDA compile ({}) {:.2f} s\n", options.cuda.compiler, r.seconds);
+    fmt::print(stderr, "psc: CUDA compile ({}{}) {:.2f} s\n", options.cuda.compiler,
+               r.units > 1 ? fmt::format(", {} units", r.units) : std::string(), r.seconds);
     fs::create_directories(dir, ec);
     writeFile(cubinPath, std::string(r.cubin.begin(), r.cubin.end()));
-    writeFile(ptxPath, r.ptx);
+    writeFile(ptxPath, joinUnits(r.ptx));
     writeFile(logPath, r.log);
     return r;
 }

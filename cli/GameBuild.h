@@ -22,6 +22,7 @@ struct GameBuildOptions {
     std::string target = "cpu";   // cpu | cuda | all (cuda plugins also run on the CPU)
     CudaCompileOptions cuda;
     std::string gpuState = "auto";  // auto | registers | memory (codegen::SourceOptions)
+    int cudaUnits = 0;              // CUDA compile units; 0: chosen by codegen (codegen::SourceOptions)
 };
 
 // The code generator's options for building `text` (read from `path`).

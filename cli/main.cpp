@@ -133,6 +133,9 @@ int main(int argc, char** argv) {
     app.add_option("--fast-compile", fastCompile, fastCompileHelp)->check(fastCompileLevels);
     app.add_option("--gpu-state", gpuState, "where the GPU keeps each environment's state")
         ->check(CLI::IsMember({"auto", "registers", "memory"}));
+    int cudaUnits = 0;
+    app.add_option("--cuda-units", cudaUnits, "CUDA compile units NVRTC compiles at once (memory layout); 0: by code size")
+        ->check(CLI::Range(0, 64));
     app.add_flag("--verbose", verbose, "print the compiler command and cache use");
     app.add_flag("--native", native, "optimise the CPU code for this machine (-march=native)");
     std::vector<int> buildLevels;
@@ -152,6 +155,8 @@ int main(int argc, char** argv) {
     replay->add_option("case", replayOptions.casePath, "the case file (JSON)")->required();
     replay->add_option("--backend", replayOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
     replay->add_option("--fast-compile", replayOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
+    replay->add_option("--gpu-state", replayOptions.build.gpuState, "where the GPU keeps each environment's state")
+        ->check(CLI::IsMember({"auto", "registers", "memory"}));
     replay->add_option("--dump", replayOptions.dumpPath, "write every state as a JSON line to this file");
     replay->add_flag("--verbose", replayOptions.build.build.verbose, "print the compiler command and cache use");
 
@@ -166,6 +171,8 @@ int main(int argc, char** argv) {
     bench->add_option("--warmup", benchOptions.warmup, "untimed runs first");
     bench->add_option("--backend", benchOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
     bench->add_option("--fast-compile", benchOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
+    bench->add_option("--gpu-state", benchOptions.build.gpuState, "where the GPU keeps each environment's state")
+        ->check(CLI::IsMember({"auto", "registers", "memory"}));
     bench->add_flag("--native", benchOptions.build.build.native, "compile for this machine (-march=native)");
     bench->add_flag("--all-levels", benchOptions.allLevels, "build the plugin for every level, not only the one measured");
     bench->add_flag("--verbose", benchOptions.build.build.verbose, "print the compiler command and cache use");
@@ -195,6 +202,7 @@ int main(int argc, char** argv) {
         options.cuda.fastCompile = fastCompile;
         options.cuda.verbose = verbose;
         options.gpuState = gpuState;
+        options.cudaUnits = cudaUnits;
         return runBuild(game, output, options);
     }
     if (format == "reference" && emit != "ir") {
@@ -213,6 +221,7 @@ int main(int argc, char** argv) {
         gb.cuda.fastCompile = fastCompile;
         gb.build.verbose = verbose;
         gb.gpuState = gpuState;
+        gb.cudaUnits = cudaUnits;
         auto compiled = cli::compileForBuild(*source, game, gb);
         if (!compiled) return 1;
         if (emit == "cuda") {
@@ -221,7 +230,10 @@ int main(int argc, char** argv) {
         }
         auto device = cli::compileDeviceCode(*compiled, *source, game, gb);
         if (!device) return 1;
-        fmt::print("{}", device->ptx);
+        for (size_t k = 0; k < device->ptx.size(); ++k) {
+            if (device->ptx.size() > 1) fmt::print("// ---- compile unit {} of {}\n", k, device->ptx.size());
+            fmt::print("{}", device->ptx[k]);
+        }
         return 0;
     }
     return runEmit(game, emit, format, keepGoing);

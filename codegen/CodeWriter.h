@@ -7,6 +7,10 @@ namespace psc::codegen {
 
 class CodeWriter {
 public:
+    CodeWriter() = default;
+    // Starts at another writer's indentation, for text to be placed there later.
+    explicit CodeWriter(int indent) : indent_(indent) {}
+    int indent() const { return indent_; }
     // Appends one line at the current indentation ("" for an empty line).
     void line(const std::string& text = "") {
         if (!text.empty()) out_.append(static_cast<size_t>(indent_) * 4, ' ');

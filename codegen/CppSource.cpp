@@ -23,6 +23,11 @@ constexpr const char* kGeneratorVersion = "psc 0.1.0";
 // and NVRTC time grow with the level's area (a 5,000-cell level took minutes).
 constexpr int kMaxUnrolledBoardWords = 8;
 
+// CUDA compile units: one per this many bytes of rule code, besides unit 0
+// (docs/performance.md measures the choice), and at most this many in all.
+constexpr size_t kRuleBytesPerUnit = 24000;
+constexpr int kMaxCompileUnits = 8;
+
 std::string cString(const std::string& utf8) { return json::quote(utf8); }
 
 int positionOf(int x, int y, int height) { return x * (height + 1) + y; }
@@ -99,6 +104,10 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o) {
                          inRegisters ? 1 : 0));
     out.line(fmt::format("#define PSC_UNROLL_BOARD_WORDS {}  // the GPU unrolls loops over objects, layers and words",
                          inRegisters || boardWords(g, o) <= kMaxUnrolledBoardWords ? 1 : 0));
+    if (o.target != "cpu") {
+        out.line(fmt::format("#define PSC_COMPILE_UNITS {}  // programs NVRTC compiles at once (templates/core.h)",
+                             cudaCompileUnits(g, o)));
+    }
     out.line();
     out.open("namespace psc_game");
     out.line(fmt::format("constexpr int kObjects = {};  // object ids, ghost ids included", std::max(1, g.objectCount)));
@@ -468,6 +477,17 @@ bool gpuStateInRegisters(const ir::Game& game, const SourceOptions& options) {
     return rules.text().size() * static_cast<size_t>(boardWords(game, options)) <= kRegisterCodeBudget;
 }
 
+int cudaCompileUnits(const ir::Game& game, const SourceOptions& options) {
+    if (gpuStateInRegisters(game, options)) return 1;
+    const int groups = static_cast<int>(game.rules.size() + game.lateRules.size());
+    if (groups == 0) return 1;
+    if (options.cudaUnits > 0) return std::min(options.cudaUnits, groups + 1);
+    CodeWriter rules;
+    emitRules(rules, game);
+    const int ruleUnits = static_cast<int>((rules.text().size() + kRuleBytesPerUnit - 1) / kRuleBytesPerUnit);
+    return 1 + std::min({std::max(ruleUnits, 1), groups, kMaxCompileUnits - 1});
+}
+
 std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     CodeWriter out;
     emitConstants(out, game, options);
@@ -479,7 +499,7 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     out.open("namespace psc_game");
     out.line("PSC_DEVICE PSC_INLINE u32 queueCommands(u32 queue, u32 commands);");
     out.line();
-    emitRules(out, game);
+    emitRules(out, game, options.target == "cpu" ? 1 : cudaCompileUnits(game, options));
     out.close("  // namespace psc_game");
     out.line();
     out.raw(templates::movement());
@@ -517,7 +537,9 @@ std::string cudaSource(const ir::Game& game, const SourceOptions& options) {
     out.raw(header(game, options));
     out.raw(deviceSource(game, options));
     out.line();
+    out.raw("#if PSC_COMPILES_UNIT(0)\n");
     out.raw(templates::cudaKernels());
+    out.raw("#endif\n");
     return out.text();
 }
 
@@ -537,13 +559,21 @@ void emitPluginPrologue(CodeWriter& out, const ir::Game& game, const SourceOptio
 }  // namespace
 
 std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options, const std::vector<char>& cubin,
-                             const std::string& ptx, size_t stackBytes) {
+                             const std::vector<std::string>& ptx, size_t stackBytes) {
     CodeWriter out;
     emitPluginPrologue(out, game, options);
     out.line("// ---- the game's device code, compiled for CUDA");
     out.line("namespace psc_game {");
     out.raw(byteArray("kCubin", cubin.data(), cubin.size()));
-    out.raw(byteArray("kPtx", ptx.data(), ptx.size()));
+    std::vector<std::string> units;
+    for (size_t k = 0; k < ptx.size(); ++k) {
+        units.push_back(fmt::format("kPtxUnit{}", k));
+        out.raw(byteArray(units.back().c_str(), ptx[k].data(), ptx[k].size()));
+    }
+    out.line("// PTX of each compile unit (templates/core.h), for GPUs the cubin is not for.");
+    out.line(fmt::format("static const unsigned char* const kPtx[] = {{{}}};", join(units, ", ")));
+    out.line(fmt::format("static const size_t kPtxBytes[] = {{{}}};", list(ptx, [](const std::string& p) { return std::to_string(p.size()); })));
+    out.line(fmt::format("constexpr int kPtxUnits = {};", ptx.size()));
     out.line(fmt::format("constexpr size_t kStackBytes = {};  // per thread, a bound on the kernels' call stacks", stackBytes));
     out.line("}  // namespace psc_game");
     out.line();

@@ -26,10 +26,17 @@ struct SourceOptions {
     // (local memory), or "auto" (chosen from the game's size; see
     // gpuStateInRegisters and templates/core.h).
     std::string gpuState = "auto";
+    // CUDA compile units (templates/core.h) for a memory-layout game; 0: as
+    // many as its rule code calls for (cudaCompileUnits).
+    int cudaUnits = 0;
 };
 
 // Whether the CUDA code keeps the state in registers, resolving "auto".
 bool gpuStateInRegisters(const ir::Game& game, const SourceOptions& options);
+
+// How many programs NVRTC compiles the CUDA code as, at once: 1 for the
+// registers layout, else unit 0 plus units for the rule groups.
+int cudaCompileUnits(const ir::Game& game, const SourceOptions& options);
 
 // The part that runs per environment (host and device): tables, rules, engine.
 std::string deviceSource(const ir::Game& game, const SourceOptions& options);
@@ -38,9 +45,10 @@ std::string cpuPluginSource(const ir::Game& game, const SourceOptions& options);
 // The CUDA translation unit: the device part and the kernels (for NVRTC or nvcc).
 std::string cudaSource(const ir::Game& game, const SourceOptions& options);
 // The host translation unit of a plugin with both backends; `cubin` and
-// `ptx` are the compiled cudaSource(), whose kernels need `stackBytes` of stack a thread.
+// `ptx` (one text per compile unit) are the compiled cudaSource(), whose
+// kernels need `stackBytes` of stack a thread.
 std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options, const std::vector<char>& cubin,
-                             const std::string& ptx, size_t stackBytes);
+                             const std::vector<std::string>& ptx, size_t stackBytes);
 
 // Words of 64 bits per bitboard for the largest level built.
 int boardWords(const ir::Game& game, const SourceOptions& options);

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <functional>
 #include <set>
 
@@ -433,14 +434,16 @@ std::string groupName(const ir::RuleGroup& group, size_t index, bool late) {
     return fmt::format("{}group_{}_L{}", late ? "late_" : "", index, group.groupNumber);
 }
 
-void emitGroup(CodeWriter& out, const Game& g, const ir::RuleGroup& group, size_t index, bool late,
-               std::set<std::string>& used) {
-    std::vector<RuleNames> names;
-    for (const auto& rule : group.rules) {
-        std::string base = uniqueIdentifier(ruleIdentifier(g, rule, late), used);
-        names.push_back({base, base + "_count", base + "_apply_nth"});
-        emitRule(out, g, rule, names.back(), group.random);
-    }
+// A function, or a random rule's two, as code and as declarations: the unit
+// of what goes to one compile unit.
+struct Piece {
+    std::string text;
+    std::vector<std::string> declarations;
+};
+
+// The group's function: passes over its rules, or (random) one match drawn from all of theirs.
+void emitGroupFunction(CodeWriter& out, const ir::RuleGroup& group, size_t index, bool late,
+                       const std::vector<RuleNames>& names) {
     const std::string name = groupName(group, index, late);
     if (!group.random) {
         out.line(fmt::format("// group {} (line {}): passes over its rules until one changes nothing, at most 200",
@@ -478,11 +481,31 @@ void emitGroup(CodeWriter& out, const Game& g, const ir::RuleGroup& group, size_
     out.line();
 }
 
+void emitGroup(std::vector<Piece>& pieces, int indent, const Game& g, const ir::RuleGroup& group, size_t index,
+               bool late, std::set<std::string>& used) {
+    std::vector<RuleNames> names;
+    for (const auto& rule : group.rules) {
+        std::string base = uniqueIdentifier(ruleIdentifier(g, rule, late), used);
+        names.push_back({base, base + "_count", base + "_apply_nth"});
+        CodeWriter code(indent);
+        emitRule(code, g, rule, names.back(), group.random);
+        const RuleNames& n = names.back();
+        pieces.push_back({code.text(), group.random ? std::vector<std::string>{
+                                                          "PSC_DEVICE PSC_RULE long long " + n.count + "(const Env& e);",
+                                                          "PSC_DEVICE PSC_RULE bool " + n.nth + "(Env& e, Turn& t, long long n);"}
+                                                    : std::vector<std::string>{"PSC_DEVICE PSC_RULE bool " + n.apply +
+                                                                               "(Env& e, Turn& t);"}});
+    }
+    CodeWriter code(indent);
+    emitGroupFunction(code, group, index, late, names);
+    pieces.push_back({code.text(), {"PSC_DEVICE PSC_RULE bool " + groupName(group, index, late) + "(Env& e, Turn& t);"}});
+}
+
 void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGroup>& groups,
                     const std::map<int, int>& loops, bool late) {
     const std::string fn = late ? "applyLateRules" : "applyEarlyRules";
     out.line(late ? "// Late rules, in order (with their loops)." : "// The rules, in order (with their loops and rigid bans).");
-    out.open("PSC_DEVICE PSC_RULE void " + fn + "(Env& e, Turn& t)");
+    out.open("PSC_DEVICE PSC_TURN void " + fn + "(Env& e, Turn& t)");
     out.line("(void)e;");
     out.line("(void)t;");
     auto call = [&](size_t i) {
@@ -525,10 +548,42 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
 
 }  // namespace
 
-void emitRules(CodeWriter& out, const Game& game) {
+void emitRules(CodeWriter& out, const Game& game, int units) {
+    std::vector<Piece> pieces;
     std::set<std::string> used;
-    for (size_t i = 0; i < game.rules.size(); ++i) emitGroup(out, game, game.rules[i], i, false, used);
-    for (size_t i = 0; i < game.lateRules.size(); ++i) emitGroup(out, game, game.lateRules[i], i, true, used);
+    for (size_t i = 0; i < game.rules.size(); ++i) emitGroup(pieces, out.indent(), game, game.rules[i], i, false, used);
+    for (size_t i = 0; i < game.lateRules.size(); ++i) emitGroup(pieces, out.indent(), game, game.lateRules[i], i, true, used);
+    if (units <= 1) {
+        for (const auto& piece : pieces) out.raw(piece.text);
+    } else {
+        // Pieces go to units 1.. (unit 0 has the turn and the kernels),
+        // largest first, each to the unit with the least code so far.
+        std::vector<size_t> order(pieces.size());
+        for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::stable_sort(order.begin(), order.end(),
+                         [&](size_t a, size_t b) { return pieces[a].text.size() > pieces[b].text.size(); });
+        std::vector<size_t> load(static_cast<size_t>(units), 0);
+        std::vector<size_t> unitOf(pieces.size(), 0);
+        for (size_t i : order) {
+            size_t least = 1;
+            for (size_t k = 2; k < load.size(); ++k) least = load[k] < load[least] ? k : least;
+            unitOf[i] = least;
+            load[least] += pieces[i].text.size();
+        }
+        out.line("// Each rule and group is defined in one compile unit (templates/core.h), and declared here for all.");
+        for (const auto& piece : pieces) {
+            for (const auto& declaration : piece.declarations) out.line(declaration);
+        }
+        out.line();
+        for (size_t k = 1; k < load.size(); ++k) {
+            out.raw(fmt::format("#if PSC_COMPILES_UNIT({})\n", k));
+            for (size_t i = 0; i < pieces.size(); ++i) {
+                if (unitOf[i] == k) out.raw(pieces[i].text);
+            }
+            out.raw(fmt::format("#endif  // compile unit {}\n", k));
+        }
+        out.line();
+    }
     emitApplyRules(out, game, game.rules, game.loopPoints, false);
     emitApplyRules(out, game, game.lateRules, game.lateLoopPoints, true);
 }

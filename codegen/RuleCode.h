@@ -17,6 +17,9 @@
 namespace psc::codegen {
 
 // Emits rule_* and group_* functions and applyEarlyRules/applyLateRules.
-void emitRules(CodeWriter& out, const ir::Game& game);
+// With units > 1 (CUDA compile units, templates/core.h) each rule and group
+// function is declared for all units and defined in one of units 1..units-1,
+// balanced by code size.
+void emitRules(CodeWriter& out, const ir::Game& game, int units = 1);
 
 }  // namespace psc::codegen

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
@@ -10,9 +11,11 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 #include <unistd.h>
 
 #if PSC_HAVE_NVRTC
+#include <nvJitLink.h>
 #include <nvrtc.h>
 #endif
 
@@ -44,45 +47,126 @@ std::string programLog(nvrtcProgram program) {
     return log;
 }
 
-// One NVRTC compilation for a real architecture: NVRTC keeps the PTX it lowered to
-// the cubin, so both come from the same run.
+struct UnitOutput {
+    bool ok = false;
+    std::vector<char> cubin;
+    std::string ptx;
+    std::string log;
+    double seconds = 0;
+};
+
+// One NVRTC program for a real architecture: NVRTC keeps the PTX it lowered
+// to the cubin, so both come from the same run.
+UnitOutput nvrtcProgramOutput(const std::string& source, const std::string& name, const std::vector<std::string>& options,
+                              bool syntaxOnly) {
+    UnitOutput u;
+    const auto start = std::chrono::steady_clock::now();
+    nvrtcProgram program;
+    if (nvrtcCreateProgram(&program, source.c_str(), name.c_str(), 0, nullptr, nullptr) != NVRTC_SUCCESS) {
+        u.log = "NVRTC could not create the program\n";
+        return u;
+    }
+    std::vector<const char*> argv;
+    for (const auto& o : options) argv.push_back(o.c_str());
+    const nvrtcResult compiled = nvrtcCompileProgram(program, static_cast<int>(argv.size()), argv.data());
+    u.log = programLog(program);
+    u.ok = compiled == NVRTC_SUCCESS;
+    if (!u.ok) u.log += std::string(nvrtcGetErrorString(compiled)) + "\n";
+    if (u.ok && !syntaxOnly) {
+        size_t cubinSize = 0, ptxSize = 0;
+        u.ok = nvrtcGetCUBINSize(program, &cubinSize) == NVRTC_SUCCESS && nvrtcGetPTXSize(program, &ptxSize) == NVRTC_SUCCESS;
+        if (u.ok) {
+            u.cubin.resize(cubinSize);
+            u.ptx.assign(ptxSize, '\0');
+            u.ok = nvrtcGetCUBIN(program, u.cubin.data()) == NVRTC_SUCCESS && nvrtcGetPTX(program, u.ptx.data()) == NVRTC_SUCCESS;
+            while (!u.ptx.empty() && u.ptx.back() == '\0') u.ptx.pop_back();
+        }
+        u.ok = u.ok && !u.cubin.empty() && !u.ptx.empty();
+    }
+    nvrtcDestroyProgram(&program);
+    u.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return u;
+}
+
+// The units' relocatable cubins linked into one.
+bool linkUnits(const std::vector<UnitOutput>& units, int arch, CudaCompileResult& r) {
+    const std::string archOption = fmt::format("-arch=sm_{}", arch);
+    r.linkOptions = {archOption};
+    const char* options[] = {archOption.c_str()};
+    nvJitLinkHandle link;
+    if (nvJitLinkCreate(&link, 1, options) != NVJITLINK_SUCCESS) {
+        r.log += "nvJitLink could not start\n";
+        return false;
+    }
+    bool ok = true;
+    for (size_t k = 0; k < units.size() && ok; ++k) {
+        const std::string name = fmt::format("unit{}.cubin", k);
+        ok = nvJitLinkAddData(link, NVJITLINK_INPUT_CUBIN, units[k].cubin.data(), units[k].cubin.size(), name.c_str()) ==
+             NVJITLINK_SUCCESS;
+    }
+    ok = ok && nvJitLinkComplete(link) == NVJITLINK_SUCCESS;
+    size_t size = 0;
+    if (ok && nvJitLinkGetLinkedCubinSize(link, &size) == NVJITLINK_SUCCESS && size > 0) {
+        r.cubin.resize(size);
+        ok = nvJitLinkGetLinkedCubin(link, r.cubin.data()) == NVJITLINK_SUCCESS;
+    } else {
+        ok = false;
+    }
+    if (!ok) {
+        size_t logSize = 0;
+        nvJitLinkGetErrorLogSize(link, &logSize);
+        std::string error(logSize, '\0');
+        if (logSize) nvJitLinkGetErrorLog(link, error.data());
+        while (!error.empty() && error.back() == '\0') error.pop_back();
+        r.log += "linking the compile units failed: " + error + "\n";
+    }
+    nvJitLinkDestroy(&link);
+    return ok;
+}
+
+// Compiles the source as one program, or as its compile units at once (as
+// many at a time as there are cores), relocatable, then linked.
 bool nvrtcCompile(const std::string& source, const std::string& name, const CudaCompileOptions& options, CudaCompileResult& r) {
-    const int arch = options.architecture;
-    const bool syntaxOnly = options.syntaxOnly;
     // NVRTC (12.9+) shares the driver's compute cache, and a hit there returns
     // a cubin without ptxas's report, which sizes the kernels' stack
     // (ptxasStackBytes).  psc caches whole results itself, so that cache is
     // turned off; NVRTC reads the variable once, at its first compilation.
     setenv("CUDA_CACHE_DISABLE", "1", 1);
-    nvrtcProgram program;
-    if (nvrtcCreateProgram(&program, source.c_str(), name.c_str(), 0, nullptr, nullptr) != NVRTC_SUCCESS) {
-        r.log += "NVRTC could not create the program\n";
-        return false;
-    }
+    const int units = compileUnitsOf(source);
+    r.units = units;
     r.options = commonOptions(options);
-    r.options.push_back(fmt::format("--gpu-architecture=sm_{}", arch));
-    if (syntaxOnly) r.options.push_back("-fdevice-syntax-only");
-    std::vector<const char*> argv;
-    for (const auto& o : r.options) argv.push_back(o.c_str());
-    const nvrtcResult compiled = nvrtcCompileProgram(program, static_cast<int>(argv.size()), argv.data());
-    r.log += programLog(program);
-    bool ok = compiled == NVRTC_SUCCESS;
-    if (!ok) r.log += std::string(nvrtcGetErrorString(compiled)) + "\n";
-    if (syntaxOnly) {
-        nvrtcDestroyProgram(&program);
-        return ok;
+    r.options.push_back(fmt::format("--gpu-architecture=sm_{}", options.architecture));
+    if (options.syntaxOnly) r.options.push_back("-fdevice-syntax-only");
+    if (units > 1) r.options.push_back("-rdc=true");
+    std::vector<UnitOutput> outputs(static_cast<size_t>(units));
+    std::atomic<int> next{0};
+    auto work = [&] {
+        for (int k; (k = next++) < units;) {
+            std::vector<std::string> unitOptions = r.options;
+            if (units > 1) unitOptions.push_back(fmt::format("-DPSC_UNIT={}", k));
+            outputs[static_cast<size_t>(k)] = nvrtcProgramOutput(source, name, unitOptions, options.syntaxOnly);
+        }
+    };
+    const int workers = std::max(1, std::min<int>(units, static_cast<int>(std::thread::hardware_concurrency())));
+    std::vector<std::thread> threads;
+    for (int w = 1; w < workers; ++w) threads.emplace_back(work);
+    work();
+    for (auto& t : threads) t.join();
+    bool ok = true;
+    for (int k = 0; k < units; ++k) {
+        const UnitOutput& u = outputs[static_cast<size_t>(k)];
+        if (units > 1 && !u.log.empty()) r.log += fmt::format("compile unit {}:\n", k);
+        r.log += u.log;
+        ok = ok && u.ok;
+        r.ptx.push_back(u.ptx);
+        r.unitSeconds.push_back(u.seconds);
     }
-    size_t cubinSize = 0, ptxSize = 0;
-    ok = ok && nvrtcGetCUBINSize(program, &cubinSize) == NVRTC_SUCCESS && nvrtcGetPTXSize(program, &ptxSize) == NVRTC_SUCCESS;
-    if (ok) {
-        r.cubin.resize(cubinSize);
-        std::string ptx(ptxSize, '\0');
-        ok = nvrtcGetCUBIN(program, r.cubin.data()) == NVRTC_SUCCESS && nvrtcGetPTX(program, ptx.data()) == NVRTC_SUCCESS;
-        while (!ptx.empty() && ptx.back() == '\0') ptx.pop_back();
-        r.ptx = ptx;
+    if (!ok || options.syntaxOnly) return ok;
+    if (units == 1) {
+        r.cubin = outputs[0].cubin;
+        return true;
     }
-    nvrtcDestroyProgram(&program);
-    return ok && !r.cubin.empty() && !r.ptx.empty();
+    return linkUnits(outputs, options.architecture, r);
 }
 #endif
 
@@ -119,13 +203,21 @@ bool nvccCompile(const std::string& source, const std::string& name, const CudaC
     if (ok) {
         const std::string cubin = readAll(dir / "out.cubin");
         r.cubin.assign(cubin.begin(), cubin.end());
-        r.ptx = readAll(dir / "out.ptx");
+        r.ptx = {readAll(dir / "out.ptx")};
     }
     fs::remove_all(dir, ec);
-    return ok && !r.cubin.empty() && !r.ptx.empty();
+    return ok && !r.cubin.empty() && !r.ptx[0].empty();
 }
 
 }  // namespace
+
+int compileUnitsOf(const std::string& source) {
+    const std::string define = "#define PSC_COMPILE_UNITS ";
+    const size_t at = source.find(define);
+    if (at == std::string::npos) return 1;
+    const int units = std::atoi(source.c_str() + at + define.size());
+    return units >= 1 && units <= 64 ? units : 1;
+}
 
 size_t ptxasStackBytes(const std::string& log) {
     size_t total = 0;

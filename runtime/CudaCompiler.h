@@ -1,6 +1,9 @@
 // Compiling a game's device code for CUDA: in process with NVRTC (the
 // default), or with nvcc.  Produces a cubin for the target architecture and
-// PTX for the driver to compile on other GPUs.
+// PTX for the driver to compile on other GPUs.  NVRTC compiles a source that
+// declares several compile units (PSC_COMPILE_UNITS, templates/core.h) as
+// that many relocatable programs at once, and links them with nvJitLink;
+// nvcc compiles it as one program.
 #pragma once
 
 #include <string>
@@ -20,11 +23,14 @@ struct CudaCompileOptions {
 
 struct CudaCompileResult {
     bool ok = false;
-    std::vector<char> cubin;
-    std::string ptx;
-    std::string log;                   // compiler messages, with ptxas's resource report
-    std::vector<std::string> options;  // the exact options used
+    std::vector<char> cubin;               // linked, ready to load
+    std::vector<std::string> ptx;          // one per compile unit (the driver links several)
+    std::string log;                       // compiler messages, with ptxas's resource report
+    std::vector<std::string> options;      // the exact options used (each unit adds -DPSC_UNIT=k)
+    int units = 1;                         // programs compiled
+    std::vector<std::string> linkOptions;  // nvJitLink's, when units > 1
     double seconds = 0;                // total compile time
+    std::vector<double> unitSeconds;   // each unit's NVRTC time (they overlap)
     // Stack a thread needs (ptxasStackBytes): the driver's default limit
     // (1 KB) overflows in games whose state lives in local memory.
     size_t stackBytes = 0;
@@ -37,6 +43,9 @@ struct CudaCompileResult {
 // engine never goes round it twice in a row.
 constexpr size_t kStackMargin = 1024;
 size_t ptxasStackBytes(const std::string& log);
+
+// The source's PSC_COMPILE_UNITS, or 1.
+int compileUnitsOf(const std::string& source);
 
 bool cudaCompilerAvailable(const std::string& compiler);
 CudaCompileResult compileCuda(const std::string& source, const std::string& name, const CudaCompileOptions& options);

@@ -18,21 +18,37 @@
 //  - registers (small games): the generated rules (PSC_RULE) and layer
 //    helpers (PSC_LAYER) are inlined into one body per kernel, so that the
 //    environment's boards are registers;
-//  - memory (large games): rules and layer helpers are compiled once each,
-//    out of line, over an environment in local memory, which keeps code size
-//    and compile time linear in the game.
+//  - memory (large games): rules, layer helpers and the turn (PSC_TURN) are
+//    compiled once each, out of line, over an environment in local memory,
+//    which keeps code size and compile time linear in the game.
 // A CPU compiler keeps large rule sets fast without forced inlining and
 // compiles them much faster.
+//
+// Compile units: NVRTC may compile the CUDA code of a memory-layout game as
+// PSC_COMPILE_UNITS programs at once, each with PSC_UNIT set, as relocatable
+// code then linked (runtime/CudaCompiler.cpp).  Unit 0 defines the kernels
+// and the turn, unit k > 0 some of the rules and groups
+// (PSC_COMPILES_UNIT(k)), which are the only functions one unit calls in
+// another (PSC_RULE).  Every other function is inline: a unit compiles only
+// those it uses, and copies in several units link as one.  Compiled as one
+// program (PSC_UNIT not set), the source defines everything.
+#if defined(PSC_UNIT)
+#define PSC_COMPILES_UNIT(k) ((k) == PSC_UNIT)
+#else
+#define PSC_COMPILES_UNIT(k) 1
+#endif
 #if defined(__CUDACC__) || defined(__CUDACC_RTC__)
 #define PSC_DEVICE __device__
 #define PSC_INLINE __forceinline__
-#define PSC_COLD __noinline__
+#define PSC_COLD inline __noinline__
 #if PSC_STATE_IN_REGISTERS
 #define PSC_RULE __forceinline__
 #define PSC_LAYER __forceinline__
+#define PSC_TURN __forceinline__
 #else
 #define PSC_RULE __noinline__
-#define PSC_LAYER __noinline__
+#define PSC_LAYER inline __noinline__
+#define PSC_TURN inline __noinline__
 #endif
 #define PSC_TABLE __device__ const
 // Loops over objects, layers and a board's words are unrolled for boards of
@@ -43,6 +59,15 @@
 #define PSC_UNROLL _Pragma("unroll")
 #else
 #define PSC_UNROLL _Pragma("unroll 1")
+#endif
+// Loops over all the state's objects or layers are unrolled only for the
+// registers layout (a board picked by a run-time index would leave the
+// registers); over local memory they stay loops, which keeps the turn's code,
+// and its compile time, small.
+#if PSC_STATE_IN_REGISTERS
+#define PSC_UNROLL_STATE PSC_UNROLL
+#else
+#define PSC_UNROLL_STATE _Pragma("unroll 1")
 #endif
 #else
 #define PSC_DEVICE
@@ -56,8 +81,10 @@
 #define PSC_COLD __attribute__((noinline))
 #define PSC_RULE
 #define PSC_LAYER inline
+#define PSC_TURN PSC_INLINE
 #define PSC_TABLE static const
 #define PSC_UNROLL
+#define PSC_UNROLL_STATE
 #endif
 
 namespace psc_game {

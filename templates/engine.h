@@ -13,14 +13,14 @@ namespace psc_game {
 PSC_DEVICE PSC_COLD void coldTurn(Env& e, UndoStack& u, bool dontDoWin);
 
 PSC_DEVICE PSC_INLINE void saveObjects(const Env& e, Snapshot& s) {
-    PSC_UNROLL for (int o = 0; o < kObjects; ++o) s.obj[o] = e.obj[o];
+    PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) s.obj[o] = e.obj[o];
 }
 PSC_DEVICE PSC_INLINE void loadObjects(Env& e, const Snapshot& s) {
-    PSC_UNROLL for (int o = 0; o < kObjects; ++o) e.obj[o] = s.obj[o];
+    PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) e.obj[o] = s.obj[o];
 }
 PSC_DEVICE PSC_INLINE bool sameObjects(const Env& e, const Snapshot& s) {
     bool same = true;
-    PSC_UNROLL for (int o = 0; o < kObjects; ++o) same = same && e.obj[o] == s.obj[o];
+    PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) same = same && e.obj[o] == s.obj[o];
     return same;
 }
 
@@ -79,7 +79,7 @@ PSC_DEVICE PSC_INLINE void clearMovementsAfterRestore(Env& e) {
         clearMovementsLingering(e);
         return;
     }
-    PSC_UNROLL for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
+    PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
 }
 
 PSC_DEVICE PSC_INLINE void restoreLevel(Env& e, const Snapshot& s) {
@@ -196,8 +196,8 @@ PSC_DEVICE PSC_INLINE u32 queueCommands(u32 queue, u32 commands) {
 
 PSC_DEVICE PSC_INLINE void clearRigidClaims(Turn& t) {
 #if PSC_HAS_RIGID
-    PSC_UNROLL for (int i = 0; i < kLayers * 5; ++i) t.rigidGroup[i] = Board::zero();
-    PSC_UNROLL for (int i = 0; i < kLayers; ++i) t.rigidApplied[i] = Board::zero();
+    PSC_UNROLL_STATE for (int i = 0; i < kLayers * 5; ++i) t.rigidGroup[i] = Board::zero();
+    PSC_UNROLL_STATE for (int i = 0; i < kLayers; ++i) t.rigidApplied[i] = Board::zero();
 #else
     (void)t;
 #endif
@@ -225,8 +225,8 @@ PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, Snapshot& bak) {
 #if PSC_HAS_RIGID
     Board startObj[kObjects];
     Board startMov[kLayers * 5];
-    PSC_UNROLL for (int o = 0; o < kObjects; ++o) startObj[o] = e.obj[o];
-    PSC_UNROLL for (int m = 0; m < kLayers * 5; ++m) startMov[m] = e.mov[m];
+    PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) startObj[o] = e.obj[o];
+    PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) startMov[m] = e.mov[m];
     for (int iteration = 1;; ++iteration) {
         applyEarlyRules(e, t);
         if (!resolveMovements(e, t)) {
@@ -234,8 +234,8 @@ PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, Snapshot& bak) {
             break;
         }
         // A rigid group was banned: start over without it (at most 50 tries).
-        PSC_UNROLL for (int o = 0; o < kObjects; ++o) e.obj[o] = startObj[o];
-        PSC_UNROLL for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = startMov[m];
+        PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) e.obj[o] = startObj[o];
+        PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = startMov[m];
         clearRigidClaims(t);
         e.queue = 0;
         if (iteration >= 50) break;
@@ -281,7 +281,7 @@ PSC_DEVICE PSC_INLINE bool dryRunCommands(Env& e, UndoStack& u, const Snapshot& 
 // dontModify false): the rules, then cancel, restart, undo history, the win
 // check, checkpoint, and the dry run that decides whether `again` follows.
 // The dry run goes round the same loop, so the rules are compiled once.
-PSC_DEVICE PSC_INLINE bool playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin) {
+PSC_DEVICE PSC_TURN bool playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin) {
     bool dryRun = false;
     bool modified = false;
     for (;;) {
@@ -461,7 +461,7 @@ PSC_DEVICE PSC_INLINE StepOutcome stepEnvironment(Env& e, UndoStack& u, int acti
 }
 
 // Multi-hot object planes: out[(c * maxHeight + y) * maxWidth + x].
-PSC_DEVICE void observeEnvironment(const Env& e, const int* channelObjects, int channels, int maxWidth, int maxHeight,
+PSC_DEVICE inline void observeEnvironment(const Env& e, const int* channelObjects, int channels, int maxWidth, int maxHeight,
                                    u8* out) {
     for (int i = 0; i < channels * maxWidth * maxHeight; ++i) out[i] = 0;
     for (int c = 0; c < channels; ++c) {

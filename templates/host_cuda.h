@@ -2,9 +2,12 @@
 // Loads the game's kernels (cubin for the device's architecture, else PTX)
 // with the CUDA driver API, found at run time with dlopen so that the plugin
 // also loads on machines without a GPU, and keeps the batch in device memory.
-// Expects kCubin, kPtx (the compiled device code) and kStackBytes above.
+// Expects kCubin, kPtx/kPtxBytes/kPtxUnits (the compiled device code, PTX per
+// compile unit) and kStackBytes above.
 
 #include <dlfcn.h>
+
+#include <cstdlib>
 
 struct psc_batch;
 
@@ -18,6 +21,8 @@ typedef void* CUmodule;
 typedef void* CUfunction;
 typedef void* CUstream;
 typedef unsigned long long CUdeviceptr;
+typedef void* CUlinkState;
+constexpr int kJitInputPtx = 1;  // CU_JIT_INPUT_PTX
 
 struct Driver {
     CUresult (*cuInit)(unsigned);
@@ -29,6 +34,10 @@ struct Driver {
     CUresult (*cuCtxSetLimit)(int, size_t);
     CUresult (*cuModuleLoadData)(CUmodule*, const void*);
     CUresult (*cuModuleUnload)(CUmodule);
+    CUresult (*cuLinkCreate)(unsigned, int*, void**, CUlinkState*);
+    CUresult (*cuLinkAddData)(CUlinkState, int, void*, size_t, const char*, unsigned, int*, void**);
+    CUresult (*cuLinkComplete)(CUlinkState, void**, size_t*);
+    CUresult (*cuLinkDestroy)(CUlinkState);
     CUresult (*cuModuleGetFunction)(CUfunction*, CUmodule, const char*);
     CUresult (*cuMemAlloc)(CUdeviceptr*, size_t);
     CUresult (*cuMemFree)(CUdeviceptr);
@@ -66,6 +75,10 @@ Driver& driver() {
         load(d.cuCtxSetLimit, "cuCtxSetLimit");
         load(d.cuModuleLoadData, "cuModuleLoadData");
         load(d.cuModuleUnload, "cuModuleUnload");
+        load(d.cuLinkCreate, "cuLinkCreate_v2");
+        load(d.cuLinkAddData, "cuLinkAddData_v2");
+        load(d.cuLinkComplete, "cuLinkComplete");
+        load(d.cuLinkDestroy, "cuLinkDestroy");
         load(d.cuModuleGetFunction, "cuModuleGetFunction");
         load(d.cuMemAlloc, "cuMemAlloc_v2");
         load(d.cuMemFree, "cuMemFree_v2");
@@ -87,6 +100,29 @@ Driver& driver() {
         return d;
     }();
     return d;
+}
+
+// The game's kernels: the cubin, or, on another architecture (or with
+// PSC_CUDA_FROM_PTX=1, which tests this path), the PTX compiled by the driver
+// and, from several compile units, linked by it.
+CUresult loadModule(CUmodule* module) {
+    Driver& d = driver();
+    const char* fromPtx = std::getenv("PSC_CUDA_FROM_PTX");
+    if (!(fromPtx && *fromPtx && *fromPtx != '0') && d.cuModuleLoadData(module, kCubin) == 0) return 0;
+    if (kPtxUnits == 1) return d.cuModuleLoadData(module, kPtx[0]);
+    CUlinkState link = nullptr;
+    CUresult r = d.cuLinkCreate(0, nullptr, nullptr, &link);
+    for (int k = 0; r == 0 && k < kPtxUnits; ++k) {
+        const std::string name = "unit" + std::to_string(k) + ".ptx";
+        r = d.cuLinkAddData(link, kJitInputPtx, const_cast<unsigned char*>(kPtx[k]), kPtxBytes[k] + 1, name.c_str(), 0,
+                            nullptr, nullptr);
+    }
+    void* image = nullptr;
+    size_t size = 0;
+    if (r == 0) r = d.cuLinkComplete(link, &image, &size);
+    if (r == 0) r = d.cuModuleLoadData(module, image);  // the image belongs to the link state
+    if (link) d.cuLinkDestroy(link);
+    return r;
 }
 
 int check(CUresult r, const char* what) {

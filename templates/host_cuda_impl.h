@@ -41,8 +41,7 @@ static int psc_cuda_batch_create(const psc_batch_options* options, psc_batch** o
     if (stack < kStackBytes) {
         if (int s = check(d.cuCtxSetLimit(kStackLimit, kStackBytes), "raising the stack limit")) return cleanup(s);
     }
-    CUresult loaded = d.cuModuleLoadData(&cb->module, kCubin);
-    if (loaded != 0) loaded = d.cuModuleLoadData(&cb->module, kPtx);  // another architecture: JIT from PTX
+    const CUresult loaded = loadModule(&cb->module);
     if (int s = check(loaded, "loading the game's kernels")) {
         cb->module = nullptr;
         return cleanup(s);

@@ -50,22 +50,22 @@ PSC_DEVICE PSC_INLINE u8 movementField(const Env& e, int layer, int p) {
 PSC_DEVICE PSC_INLINE bool repositionCell(Env& e, int p) {
     u8 stored[kLayers];
     u8 fields[kLayers];
-    PSC_UNROLL for (int L = 0; L < kLayers; ++L) stored[L] = fields[L] = movementField(e, L, p);
+    PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) stored[L] = fields[L] = movementField(e, L, p);
     bool moved = false;
     int reads = 0;
-    PSC_UNROLL for (int L = 0; L < kLayers; ++L) {
+    PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
         const int f = fields[L];
         if (f == 0) continue;
         const int before = reads;
         if (moveLayer(e, p, L, f, &reads)) {
             if (reads / 3 > before / 3) {
-                PSC_UNROLL for (int k = 0; k < kLayers; ++k) fields[k] = stored[k];
+                PSC_UNROLL_STATE for (int k = 0; k < kLayers; ++k) fields[k] = stored[k];
             }
             fields[L] = static_cast<u8>(fields[L] & ~f);
             moved = true;
         }
     }
-    PSC_UNROLL for (int L = 0; L < kLayers; ++L) {
+    PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
         PSC_UNROLL for (int k = 0; k < 5; ++k) e.mov[5 * L + k].assign(p, (fields[L] >> k) & 1);
     }
     return moved;
@@ -73,7 +73,7 @@ PSC_DEVICE PSC_INLINE bool repositionCell(Env& e, int p) {
 
 PSC_DEVICE PSC_INLINE Board movingCells(const Env& e) {
     Board any = Board::zero();
-    PSC_UNROLL for (int m = 0; m < kLayers * 5; ++m) any = any | e.mov[m];
+    PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) any = any | e.mov[m];
     return any;
 }
 
@@ -99,7 +99,7 @@ PSC_DEVICE PSC_INLINE bool resolveMovements(Env& e, Turn& t) {
         while (bits) {
             const int p = w * 64 + lowestBit(bits);
             bits &= bits - 1;
-            PSC_UNROLL for (int L = 0; L < kLayers; ++L) {
+            PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
                 if (movementField(e, L, p) == 0 || !t.rigidApplied[L].test(p)) continue;
                 int claim = 0;
                 PSC_UNROLL for (int k = 0; k < 5; ++k) claim |= static_cast<int>(t.rigidGroup[5 * L + k].test(p)) << k;
@@ -116,7 +116,7 @@ PSC_DEVICE PSC_INLINE bool resolveMovements(Env& e, Turn& t) {
 #else
     (void)t;
 #endif
-    PSC_UNROLL for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
+    PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
     return banned;
 }
 

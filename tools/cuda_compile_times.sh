@@ -14,7 +14,7 @@ for game in bench/games/*.txt; do
     for c in $columns; do
         cache=$(mktemp -d)
         t=$(XDG_CACHE_HOME=$cache timeout 900 "$psc" "$game" --emit ptx --levels 0 --gpu-state "${c%/*}" \
-            --fast-compile "${c#*/}" 2>&1 >/dev/null | sed -n 's/.*CUDA compile (nvrtc) \([0-9.]*\) s.*/\1/p')
+            --fast-compile "${c#*/}" 2>&1 >/dev/null | sed -n 's/.*CUDA compile (nvrtc[^)]*) \([0-9.]*\) s.*/\1/p')
         rm -rf "$cache"
         printf '%14s' "${t:-fail}"
     done

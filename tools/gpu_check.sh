@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
 # The GPU checks, run on the device machine from the repository root with
 # device/ carried (tools/device_bundle.sh makes it).  Stages, in the order given:
-#   compile   NVRTC time and ptxas resource report of each benchmark game
+#   compile   NVRTC time and ptxas resource report of each benchmark game, per
+#             GPU state layout in LAYOUTS (default auto)
 #   prebuild  the benchmark games' CUDA plugins built in parallel (bench then finds them cached)
 #   bench     psc bench --backend cuda, batch sweep, for each benchmark game
 #   replay    every carried corpus trace replayed on the GPU, states dumped
 #             (compare with the CPU: tools/compare_dumps.py)
 #   sanitize  compute-sanitizer memcheck on a sample of replays and a rollout
+#   fromptx   kernels loaded from PTX (PSC_CUDA_FROM_PTX=1, the other-GPU path,
+#             compile units linked by the driver): a rollout and a few replays
 #   python    the Python package on the GPU: zero-copy views, CUDA tests, PPO
 #             (plugins prebuilt here into out/python-gpu, carried)
 # FAST_COMPILE sets psc's --fast-compile (compile, prebuild, bench, replay);
-# GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
+# GPU_STATE its --gpu-state (prebuild, bench); GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
 # REPLAY_IDS (a file of case ids) limits it to some cases;
 # SANITIZE_EVERY picks every Nth carried case for the sanitizer.
 # Results go to $OUT (default out/gpu).   tools/gpu_check.sh compile bench
@@ -31,33 +34,42 @@ jobs=$(nproc)
 python=$(command -v python3)
 batches=${BATCHES:-1,1024,16384,131072,1048576,4194304}
 fast=(${FAST_COMPILE:+--fast-compile "$FAST_COMPILE"})
+state=(${GPU_STATE:+--gpu-state "$GPU_STATE"})
 
 for stage in "$@"; do
     echo "== $stage"
     case $stage in
     compile)
-        # One fresh NVRTC compile per game (empty cache), its log kept: the
-        # compile time and the stepping kernel's registers, stack and spills.
+        # One fresh NVRTC compile per game and layout (empty cache), its log
+        # kept: the compile time, the compile units, and the stepping kernel's
+        # registers, stack and spills.
         mkdir -p "$out/compile"
-        for game in bench/games/*.txt; do
-            name=$(basename "$game" .txt)
-            XDG_CACHE_HOME=$(mktemp -d) "$psc" "$game" --emit ptx --levels 0 --verbose "${fast[@]}" 2>"$out/compile/$name.log" >/dev/null
-            printf '%-16s %8s s  %s\n' "$name" "$(sed -n 's/.*CUDA compile (nvrtc) \([0-9.]*\) s.*/\1/p' "$out/compile/$name.log")" \
-                "$(grep -A3 "entry function 'psc_run_kernel'" "$out/compile/$name.log" | grep -E 'stack frame|Used' | sed 's/.*ptxas[ a-z]*: *\.* *//' | tr '\n' ' ')"
+        for layout in ${LAYOUTS:-auto}; do
+            for game in bench/games/*.txt; do
+                name=$(basename "$game" .txt)
+                log="$out/compile/$name.$layout.log"
+                XDG_CACHE_HOME=$(mktemp -d) "$psc" "$game" --emit ptx --levels 0 --gpu-state "$layout" --verbose "${fast[@]}" \
+                    2>"$log" >/dev/null
+                printf '%-16s %-9s %8s s  %-8s %s\n' "$name" "$layout" \
+                    "$(sed -n 's/.*CUDA compile (nvrtc[^)]*) \([0-9.]*\) s.*/\1/p' "$log")" \
+                    "$(sed -n 's/.*CUDA compile (nvrtc, \([0-9]*\) units).*/\1 units/p' "$log")" \
+                    "$(grep -A3 "entry function 'psc_run_kernel'" "$log" | grep -E 'stack frame|Used' | sed 's/.*ptxas[ a-z]*: *\.* *//' | tr '\n' ' ')"
+            done
         done | tee "$out/compile_times.txt"
         ;;
     prebuild)
         # Builds the benchmark plugins in parallel into the cache that bench reads.
         ls bench/games/*.txt | xargs -P "$jobs" -I{} sh -c 'p=$0 g=$1; shift; "$p" "$g" -o "/tmp/$(basename "$g" .txt).so" --target cuda --levels 0 "$@"' \
-            "$psc" {} "${fast[@]}"
+            "$psc" {} "${fast[@]}" "${state[@]}"
         ;;
     bench)
-        mkdir -p "$out/bench"
+        dir="$out/bench${GPU_STATE:+-$GPU_STATE}"
+        mkdir -p "$dir"
         for name in ${GAMES:-$(cd bench/games && ls *.txt | sed 's/.txt$//')}; do
             game=bench/games/$name.txt
-            "$psc" bench "$game" --backend cuda --batch "$batches" --repeats 5 --warmup 1 "${fast[@]}" \
-                > "$out/bench/$name.txt" 2>&1
-            echo "$name: $(tail -1 "$out/bench/$name.txt")"
+            "$psc" bench "$game" --backend cuda --batch "$batches" --repeats 5 --warmup 1 "${fast[@]}" "${state[@]}" \
+                > "$dir/$name.txt" 2>&1
+            echo "$name: $(tail -1 "$dir/$name.txt")"
         done
         ;;
     replay)
@@ -77,6 +89,16 @@ for stage in "$@"; do
         compute-sanitizer --tool memcheck --error-exitcode 9 "$psc" bench bench/games/sokoban.txt --backend cuda \
             --batch 1,1000 --steps 50 --repeats 1 --warmup 0 > "$out/sanitize/bench_sokoban.txt" 2>&1
         echo "bench sokoban: exit $? $(grep -c 'Invalid' "$out/sanitize/bench_sokoban.txt") invalid accesses"
+        ;;
+    fromptx)
+        mkdir -p "$out/fromptx"
+        PSC_CUDA_FROM_PTX=1 "$psc" bench bench/games/atlas.txt --backend cuda --batch 1,4096 --steps 200 --repeats 3 \
+            --warmup 1 --verbose > "$out/fromptx/bench_atlas.txt" 2>&1
+        echo "atlas from PTX: exit $? $(tail -1 "$out/fromptx/bench_atlas.txt")"
+        for id in ${FROMPTX_CASES:-}; do
+            PSC_CUDA_FROM_PTX=1 "$psc" replay "$corpus/$id" --backend cuda > "$out/fromptx/$(basename "$id" .json).txt" 2>&1
+            echo "$id from PTX: exit $? $(tail -1 "$out/fromptx/$(basename "$id" .json).txt")"
+        done
         ;;
     python)
         export PYTHONUNBUFFERED=1

@@ -30,8 +30,49 @@ TEST_CASE("NVRTC compiles a kernel to a cubin and PTX in one run", "[cuda]") {
     const CudaCompileResult r = compileCuda("extern \"C\" __global__ void k(int* p) { p[threadIdx.x] = 1; }", "k", {});
     REQUIRE(r.ok);
     CHECK_FALSE(r.cubin.empty());
-    CHECK(r.ptx.find(".entry k") != std::string::npos);
+    REQUIRE(r.ptx.size() == 1);
+    CHECK(r.ptx[0].find(".entry k") != std::string::npos);
     CHECK(r.options.size() == 5);  // each option once
+    CHECK(r.units == 1);
+}
+
+namespace {
+
+// Two compile units: unit 1 defines what unit 0's kernel calls; a helper
+// both use is inline, so each unit has a copy and the copies link as one.
+const char* kTwoUnits =
+    "#define PSC_COMPILE_UNITS 2\n"
+    "__device__ inline __noinline__ int twice(int x) { return 2 * x; }\n"
+    "#if PSC_UNIT == 1\n"
+    "__device__ __noinline__ int shared(int x) { return twice(x) + 1; }\n"
+    "#else\n"
+    "__device__ int shared(int x);\n"
+    "extern \"C\" __global__ void k(int* p) { p[threadIdx.x] = shared(twice(p[threadIdx.x])); }\n"
+    "#endif\n";
+
+}  // namespace
+
+TEST_CASE("NVRTC compiles a source's compile units separately and links them into one cubin", "[cuda]") {
+    REQUIRE(cudaCompilerAvailable("nvrtc"));
+    CHECK(compileUnitsOf(kTwoUnits) == 2);
+    CHECK(compileUnitsOf("__global__ void k() {}") == 1);
+    const CudaCompileResult r = compileCuda(kTwoUnits, "units", {});
+    INFO(r.log);
+    REQUIRE(r.ok);
+    CHECK(r.units == 2);
+    CHECK_FALSE(r.cubin.empty());
+    REQUIRE(r.ptx.size() == 2);
+    CHECK(r.ptx[0].find(".entry k") != std::string::npos);
+    CHECK(r.ptx[1].find(".entry k") == std::string::npos);
+    CHECK(r.ptx[1].find("shared") != std::string::npos);
+    CHECK(r.linkOptions == std::vector<std::string>{"-arch=sm_90"});
+
+    // A function no unit defines fails the link.
+    std::string missing = kTwoUnits;
+    missing.replace(missing.find("PSC_UNIT == 1"), 13, "PSC_UNIT == 7");
+    const CudaCompileResult unresolved = compileCuda(missing, "missing", {});
+    CHECK_FALSE(unresolved.ok);
+    CHECK(unresolved.log.find("linking the compile units failed") != std::string::npos);
 }
 
 TEST_CASE("the stack bound adds up every function's frame", "[cuda]") {

@@ -1,0 +1,93 @@
+#!/usr/bin/python3
+"""CUDA compile units (templates/core.h): a game's CUDA source split over
+several NVRTC programs must define each rule and group function in exactly one
+unit, link into one cubin, and come out the same every time.
+
+    cuda_compile_units.py PSC GAME... [--units N]
+
+Each game is built with the memory layout (the one that is split) and N
+units, or fewer where it has fewer rule and group functions."""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+DEFINITION = re.compile(r"^\s*PSC_DEVICE PSC_RULE [\w ]+? (\w+)\([^;]*\) \{$")
+DECLARATION = re.compile(r"^\s*PSC_DEVICE PSC_RULE [\w ]+? (\w+)\([^{]*\);$")
+
+
+def unit_definitions(source):
+    """{unit: [function names defined in it]} from the #if PSC_COMPILES_UNIT(k) blocks."""
+    units, unit = {}, None
+    for line in source.splitlines():
+        opened = re.match(r"#if PSC_COMPILES_UNIT\((\d+)\)", line)
+        if opened:
+            unit = int(opened.group(1))
+            units.setdefault(unit, [])
+        elif line.startswith("#endif  // compile unit"):
+            unit = None
+        elif unit is not None:
+            m = DEFINITION.match(line)
+            if m:
+                units[unit].append(m.group(1))
+    return units
+
+
+def check(psc, game, units, failures):
+    base = [psc, game, "--levels", "0", "--gpu-state", "memory", "--cuda-units", str(units)]
+    first = subprocess.run(base + ["--emit", "cuda"], capture_output=True, text=True, timeout=120)
+    second = subprocess.run(base + ["--emit", "cuda"], capture_output=True, text=True, timeout=120)
+    if first.returncode != 0 or first.stdout != second.stdout:
+        failures.append(f"{game}: --emit cuda failed or differs between runs: {first.stderr[-500:]}")
+        return
+    source = first.stdout
+    declared = [m.group(1) for m in map(DECLARATION.match, source.splitlines()) if m]
+    defined = unit_definitions(source)
+    names = [n for fs in defined.values() for n in fs]
+    declared_units = re.search(r"^#define PSC_COMPILE_UNITS (\d+)", source, re.M)
+    units = int(declared_units.group(1)) if declared_units else 1
+    if units < 2 or sorted(defined) != list(range(units)) or defined[0]:
+        failures.append(f"{game}: expected rules in units 1..{units - 1} and the kernels alone in unit 0, "
+                        f"found units {sorted(defined)}")
+        return
+    if sorted(names) != sorted(set(names)) or sorted(names) != sorted(declared):
+        failures.append(f"{game}: rule/group functions not defined exactly once each "
+                        f"({len(names)} defined, {len(set(names))} distinct, {len(declared)} declared)")
+    with tempfile.TemporaryDirectory() as cache:
+        ptx = subprocess.run(base + ["--emit", "ptx", "--verbose"], capture_output=True, text=True, timeout=600,
+                             env=dict(os.environ, XDG_CACHE_HOME=cache))
+    if ptx.returncode != 0 or f"{units} compile units at once" not in ptx.stderr:
+        failures.append(f"{game}: compiling and linking {units} units failed: {ptx.stderr[-1500:]}")
+        return
+    parts = re.split(r"^// ---- compile unit \d+ of \d+$", ptx.stdout, flags=re.M)[1:]
+    visible = [re.findall(r"^\.visible \.func\s+(?:\([^)]*\)\s*)?(\w+)\(", p, re.M) for p in parts]
+    entries = [re.findall(r"^\.visible \.entry (\w+)\(", p, re.M) for p in parts]
+    everywhere = [n for v in visible for n in v]
+    if len(parts) != units:
+        failures.append(f"{game}: {len(parts)} PTX units, expected {units}")
+    elif len(everywhere) != len(set(everywhere)):
+        failures.append(f"{game}: a function is defined in two units' PTX")
+    elif sorted(entries[0]) != ["psc_observe_kernel", "psc_reset_kernel", "psc_run_kernel"] or any(entries[1:]):
+        failures.append(f"{game}: the kernels must all be in unit 0, found {entries}")
+    print(f"{os.path.basename(game)}: {units} units, {len(names)} rule/group functions, "
+          f"{len(everywhere)} exported from the PTX units")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("psc")
+    ap.add_argument("games", nargs="+")
+    ap.add_argument("--units", type=int, default=3)
+    a = ap.parse_args()
+    failures = []
+    for game in a.games:
+        check(a.psc, game, a.units, failures)
+    for f in failures:
+        print("FAIL", f)
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == "__main__":
+    main()
