@@ -101,7 +101,7 @@ std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const s
         r.ptx = splitUnits(readFile(ptxPath));
         r.units = static_cast<int>(r.ptx.size());
         r.log = readFile(logPath);
-        r.stackBytes = ptxasStackBytes(r.log);
+        r.stackBytes = stackBound(r.log, r.ptx);
         if (options.build.verbose) fmt::print(stderr, "psc: CUDA code from the cache ({})\n", cubinPath.string());
         return r;
     }

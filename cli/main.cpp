@@ -173,6 +173,8 @@ int main(int argc, char** argv) {
     bench->add_option("--fast-compile", benchOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     bench->add_option("--gpu-state", benchOptions.build.gpuState, "where the GPU keeps each environment's state")
         ->check(CLI::IsMember({"auto", "registers", "memory"}));
+    bench->add_option("--cuda-units", benchOptions.build.cudaUnits, "CUDA compile units (memory layout); 0: by code size")
+        ->check(CLI::Range(0, 64));
     bench->add_flag("--native", benchOptions.build.build.native, "compile for this machine (-march=native)");
     bench->add_flag("--all-levels", benchOptions.allLevels, "build the plugin for every level, not only the one measured");
     bench->add_flag("--verbose", benchOptions.build.build.verbose, "print the compiler command and cache use");

@@ -25,7 +25,7 @@ constexpr int kMaxUnrolledBoardWords = 8;
 
 // CUDA compile units: one per this many bytes of rule code, besides unit 0
 // (docs/performance.md measures the choice), and at most this many in all.
-constexpr size_t kRuleBytesPerUnit = 24000;
+constexpr size_t kRuleBytesPerUnit = 16000;
 constexpr int kMaxCompileUnits = 8;
 
 std::string cString(const std::string& utf8) { return json::quote(utf8); }
@@ -468,10 +468,12 @@ bool gpuStateInRegisters(const ir::Game& game, const SourceOptions& options) {
     if (options.gpuState != "auto") return options.gpuState == "registers";
     if (boardWords(game, options) > kMaxUnrolledBoardWords) return false;
     // Registers make ptxas unroll every word of every board access into the
-    // rules, so compile time grows with rule code times board words; past this
-    // size (measured on the 13 benchmark games, docs/performance.md) NVRTC
-    // takes over two seconds and local memory is chosen instead.
-    constexpr size_t kRegisterCodeBudget = 22000;
+    // rules, which it compiles as one kernel, so compile time grows with rule
+    // code times board words; past this size NVRTC takes over two seconds on
+    // the H100 machine (docs/performance.md: notsnake, 11.9 k, 1.8 s;
+    // match3, 17.3 k, 2.8 s), and local memory, compiled in parallel units, is
+    // chosen instead.
+    constexpr size_t kRegisterCodeBudget = 14000;
     CodeWriter rules;
     emitRules(rules, game);
     return rules.text().size() * static_cast<size_t>(boardWords(game, options)) <= kRegisterCodeBudget;

@@ -10,6 +10,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <map>
+#include <regex>
+#include <set>
 #include <sstream>
 #include <thread>
 #include <unistd.h>
@@ -219,17 +223,126 @@ int compileUnitsOf(const std::string& source) {
     return units >= 1 && units <= 64 ? units : 1;
 }
 
-size_t ptxasStackBytes(const std::string& log) {
-    size_t total = 0;
+namespace {
+
+// Each function's stack frame in ptxas's report (the largest, where compile
+// units report a function more than once).
+std::map<std::string, size_t> stackFrames(const std::string& log) {
+    std::map<std::string, size_t> frames;
     std::istringstream in(log);
+    std::string function;
     for (std::string line; std::getline(in, line);) {
+        const std::string properties = "Function properties for ";
+        if (const size_t at = line.find(properties); at != std::string::npos) {
+            function = line.substr(at + properties.size());
+            while (!function.empty() && std::isspace(static_cast<unsigned char>(function.back()))) function.pop_back();
+            continue;
+        }
         const size_t at = line.find(" bytes stack frame");
-        if (at == std::string::npos) continue;
+        if (at == std::string::npos || function.empty()) continue;
         size_t begin = at;
         while (begin > 0 && std::isdigit(static_cast<unsigned char>(line[begin - 1]))) --begin;
-        if (begin < at) total += std::stoull(line.substr(begin, at - begin));
+        if (begin < at) frames[function] = std::max(frames[function], static_cast<size_t>(std::stoull(line.substr(begin, at - begin))));
+        function.clear();
     }
-    return total + kStackMargin;
+    return frames;
+}
+
+struct CallGraph {
+    std::map<std::string, std::set<std::string>> calls;
+    std::set<std::string> kernels;
+};
+
+// Who calls whom, from PTX: calls inside each .func/.entry body.
+CallGraph callGraph(const std::vector<std::string>& ptx) {
+    static const std::regex header(R"(^\s*(?:\.visible\s+|\.weak\s+)?\.(func|entry)\s+(?:\([^)]*\)\s*)?([A-Za-z_$][\w$]*))");
+    static const std::regex call(R"(^\s*call(?:\.uni)?\s*(?:\([^)]*\)\s*,)?\s*([A-Za-z_$][\w$]*)?)");
+    static const std::regex name(R"(^\s*([A-Za-z_$][\w$]*)\s*,)");
+    CallGraph g;
+    for (const std::string& unit : ptx) {
+        std::istringstream in(unit);
+        std::string current;
+        bool calleeNext = false;
+        std::smatch m;
+        for (std::string line; std::getline(in, line);) {
+            if (calleeNext) {
+                if (std::regex_search(line, m, name)) g.calls[current].insert(m[1]);
+                calleeNext = false;
+            } else if ((line.find(".func") != std::string::npos || line.find(".entry") != std::string::npos) &&
+                       std::regex_search(line, m, header)) {
+                current = m[2];
+                if (m[1] == "entry") g.kernels.insert(current);
+            } else if (!current.empty() && line.find("call") != std::string::npos && std::regex_search(line, m, call)) {
+                if (m[1].matched) g.calls[current].insert(m[1]);
+                else calleeNext = true;  // the callee is on the next line
+            }
+        }
+    }
+    return g;
+}
+
+}  // namespace
+
+size_t stackBound(const std::string& log, const std::vector<std::string>& ptx) {
+    const std::map<std::string, size_t> frames = stackFrames(log);
+    const CallGraph g = callGraph(ptx);
+    auto frameOf = [&](const std::string& f) {
+        const auto it = frames.find(f);
+        return it == frames.end() ? size_t{0} : it->second;
+    };
+    // Strongly connected components (Tarjan); a component weighs the sum of its frames.
+    std::map<std::string, int> index, low, component;
+    std::vector<std::string> stack;
+    std::set<std::string> onStack;
+    std::vector<size_t> weight;
+    int counter = 0;
+    std::function<void(const std::string&)> visit = [&](const std::string& f) {
+        index[f] = low[f] = counter++;
+        stack.push_back(f);
+        onStack.insert(f);
+        const auto callees = g.calls.find(f);
+        if (callees != g.calls.end()) {
+            for (const std::string& c : callees->second) {
+                if (!index.count(c)) {
+                    visit(c);
+                    low[f] = std::min(low[f], low[c]);
+                } else if (onStack.count(c)) {
+                    low[f] = std::min(low[f], index[c]);
+                }
+            }
+        }
+        if (low[f] != index[f]) return;
+        weight.push_back(0);
+        for (std::string member;;) {
+            member = stack.back();
+            stack.pop_back();
+            onStack.erase(member);
+            component[member] = static_cast<int>(weight.size() - 1);
+            weight.back() += frameOf(member);
+            if (member == f) break;
+        }
+    };
+    // The heaviest chain of components from each kernel.
+    std::map<int, std::set<int>> edges;
+    for (const std::string& k : g.kernels) {
+        if (!index.count(k)) visit(k);
+    }
+    for (const auto& [caller, callees] : g.calls) {
+        if (!component.count(caller)) continue;
+        for (const std::string& c : callees) {
+            if (component.count(c) && component[c] != component[caller]) edges[component[caller]].insert(component[c]);
+        }
+    }
+    std::map<int, size_t> heaviest;
+    std::function<size_t(int)> chain = [&](int c) -> size_t {
+        if (const auto it = heaviest.find(c); it != heaviest.end()) return it->second;
+        size_t below = 0;
+        for (int next : edges[c]) below = std::max(below, chain(next));
+        return heaviest[c] = weight[static_cast<size_t>(c)] + below;
+    };
+    size_t bound = 0;
+    for (const std::string& k : g.kernels) bound = std::max(bound, chain(component[k]));
+    return bound + kStackMargin;
 }
 
 bool cudaCompilerAvailable(const std::string& compiler) {
@@ -260,7 +373,7 @@ CudaCompileResult compileCuda(const std::string& source, const std::string& name
         r.ok = false;
         r.log += "the compiler gave no ptxas resource report (needed to size the kernels' stack)\n";
     }
-    r.stackBytes = ptxasStackBytes(r.log);
+    r.stackBytes = stackBound(r.log, r.ptx);
     return r;
 }
 

@@ -31,18 +31,22 @@ struct CudaCompileResult {
     std::vector<std::string> linkOptions;  // nvJitLink's, when units > 1
     double seconds = 0;                // total compile time
     std::vector<double> unitSeconds;   // each unit's NVRTC time (they overlap)
-    // Stack a thread needs (ptxasStackBytes): the driver's default limit
-    // (1 KB) overflows in games whose state lives in local memory.
+    // Stack a thread needs (stackBound): the driver's default limit (1 KB)
+    // overflows in games whose state lives in local memory.
     size_t stackBytes = 0;
 };
 
-// A bound on the stack any kernel needs: the stack frames of all functions in
-// a ptxas report, added up, plus kStackMargin.  ptxas's own "cumulative stack
-// size" leaves out the callees when the call graph has a cycle, and psc's has
-// one (a level won at a level's start loads the next level), although the
-// engine never goes round it twice in a row.
+// A bound on the stack any kernel needs: the heaviest chain of calls from a
+// kernel, by the stack frames of ptxas's report (`log`) and the calls in the
+// PTX (one text per compile unit), plus kStackMargin.  ptxas's own
+// "cumulative stack size" leaves out the callees when the call graph has a
+// cycle, and psc's has one (a level won at a level's start loads the next
+// level), although the engine never goes round it twice in a row: a cycle
+// counts each of its functions once.  The driver reserves this much for every
+// thread the GPU can hold, so a loose bound (such as every frame added up)
+// runs out of memory on games with large boards.
 constexpr size_t kStackMargin = 1024;
-size_t ptxasStackBytes(const std::string& log);
+size_t stackBound(const std::string& log, const std::vector<std::string>& ptx);
 
 // The source's PSC_COMPILE_UNITS, or 1.
 int compileUnitsOf(const std::string& source);

@@ -75,13 +75,25 @@ TEST_CASE("NVRTC compiles a source's compile units separately and links them int
     CHECK(unresolved.log.find("linking the compile units failed") != std::string::npos);
 }
 
-TEST_CASE("the stack bound adds up every function's frame", "[cuda]") {
-    const std::string log =
-        "ptxas info    : Function properties for rule_a\n"
-        "ptxas         .     232 bytes stack frame, 0 bytes spill stores, 0 bytes spill loads\n"
-        "ptxas info    : Function properties for psc_run_kernel\n"
-        "ptxas         .     1632 bytes stack frame, 160 bytes spill stores, 372 bytes spill loads\n"
-        "ptxas info    : Used 255 registers, used 0 barriers, 1632 bytes cumulative stack size\n";
-    CHECK(ptxasStackBytes(log) == 232 + 1632 + kStackMargin);
-    CHECK(ptxasStackBytes("") == kStackMargin);
+TEST_CASE("the stack bound is the heaviest chain of calls from a kernel, a cycle counted once", "[cuda]") {
+    // k calls a (which calls b) and c; b and d call each other; e is never called.
+    const std::vector<std::string> ptx = {
+        ".visible .entry k(\n.param .u64 p\n)\n{\n\tcall.uni \n\ta, \n\t(\n\tparam0\n\t);\n"
+        "\tcall.uni (retval0), \n\tc, \n\t(\n\t);\n}\n"
+        ".func a(\n)\n{\n\tcall.uni \n\tb, \n\t(\n\t);\n}\n",
+        ".visible .func  (.param .b32 func_retval0) b(\n)\n{\n\tcall.uni \n\td, \n\t(\n\t);\n}\n"
+        ".weak .func d(\n)\n{\n\tcall.uni \n\tb, \n\t(\n\t);\n}\n"
+        ".func c(\n)\n{\n\tret;\n}\n.func e(\n)\n{\n\tret;\n}\n"};
+    auto frame = [](const char* f, int bytes) {
+        return std::string("ptxas info    : Function properties for ") + f + "\nptxas         .     " + std::to_string(bytes) +
+               " bytes stack frame, 0 bytes spill stores, 0 bytes spill loads\n";
+    };
+    const std::string log = frame("k", 100) + frame("a", 10) + frame("b", 1000) + frame("d", 300) + frame("c", 2000) +
+                            frame("e", 50000) + frame("b", 900);
+    // k + max(a + {b, d}, c) = 100 + max(10 + 1300, 2000).
+    CHECK(stackBound(log, ptx) == 100 + 2000 + kStackMargin);
+    // With c lighter, the path through the cycle is the heaviest.
+    const std::string lighter = frame("k", 100) + frame("a", 10) + frame("b", 1000) + frame("d", 300) + frame("c", 20);
+    CHECK(stackBound(lighter, ptx) == 100 + 10 + 1300 + kStackMargin);
+    CHECK(stackBound("", {}) == kStackMargin);
 }
