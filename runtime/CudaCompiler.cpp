@@ -136,7 +136,10 @@ bool nvrtcCompile(const std::string& source, const std::string& name, const Cuda
     // (ptxasStackBytes).  psc caches whole results itself, so that cache is
     // turned off; NVRTC reads the variable once, at its first compilation.
     setenv("CUDA_CACHE_DISABLE", "1", 1);
-    const int units = compileUnitsOf(source);
+    // A syntax check reads the source once, as one program: that is all of
+    // every unit's code (tests/correctness/cuda_compile_units.py compiles and
+    // links units), and CI checks a thousand games so.
+    const int units = options.syntaxOnly ? 1 : compileUnitsOf(source);
     r.units = units;
     r.options = commonOptions(options);
     r.options.push_back(fmt::format("--gpu-architecture=sm_{}", options.architecture));

@@ -43,10 +43,11 @@ namespace {
 const char* kTwoUnits =
     "#define PSC_COMPILE_UNITS 2\n"
     "__device__ inline __noinline__ int twice(int x) { return 2 * x; }\n"
+    "__device__ int shared(int x);\n"
     "#if PSC_UNIT == 1\n"
     "__device__ __noinline__ int shared(int x) { return twice(x) + 1; }\n"
-    "#else\n"
-    "__device__ int shared(int x);\n"
+    "#endif\n"
+    "#if PSC_UNIT == 0\n"
     "extern \"C\" __global__ void k(int* p) { p[threadIdx.x] = shared(twice(p[threadIdx.x])); }\n"
     "#endif\n";
 
