@@ -28,6 +28,13 @@ constexpr int kMaxUnrolledBoardWords = 8;
 constexpr size_t kRuleBytesPerUnit = 16000;
 constexpr int kMaxCompileUnits = 8;
 
+// How the GPU code is built (gpuCode, below): decided once per source, as it
+// generates the rules to size them.
+struct GpuCode {
+    bool inRegisters = false;  // the state layout (templates/core.h)
+    int units = 1;             // CUDA compile units (templates/core.h)
+};
+
 std::string cString(const std::string& utf8) { return json::quote(utf8); }
 
 int positionOf(int x, int y, int height) { return x * (height + 1) + y; }
@@ -96,17 +103,16 @@ std::pair<int, int> fixedSize(const Game& g, const SourceOptions& o) {
     return {std::max(width, 0), std::max(height, 0)};
 }
 
-void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o) {
+void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const GpuCode& gpu) {
     out.line(fmt::format("#define PSC_USES_RANDOM {}", usesRandom(g) ? 1 : 0));
     out.line(fmt::format("#define PSC_HAS_RIGID {}", g.hasRigid ? 1 : 0));
-    const bool inRegisters = gpuStateInRegisters(g, o);  // generates the rules once to size them
     out.line(fmt::format("#define PSC_STATE_IN_REGISTERS {}  // the GPU's state layout (templates/core.h)",
-                         inRegisters ? 1 : 0));
+                         gpu.inRegisters ? 1 : 0));
     out.line(fmt::format("#define PSC_UNROLL_BOARD_WORDS {}  // the GPU unrolls loops over objects, layers and words",
-                         inRegisters || boardWords(g, o) <= kMaxUnrolledBoardWords ? 1 : 0));
+                         gpu.inRegisters || boardWords(g, o) <= kMaxUnrolledBoardWords ? 1 : 0));
     if (o.target != "cpu") {
         out.line(fmt::format("#define PSC_COMPILE_UNITS {}  // programs NVRTC compiles at once (templates/core.h)",
-                             cudaCompileUnits(g, o)));
+                             gpu.units));
     }
     out.line();
     out.open("namespace psc_game");
@@ -464,35 +470,47 @@ int boardWords(const ir::Game& game, const SourceOptions& options) {
     return words;
 }
 
-bool gpuStateInRegisters(const ir::Game& game, const SourceOptions& options) {
-    if (options.gpuState != "auto") return options.gpuState == "registers";
-    if (boardWords(game, options) > kMaxUnrolledBoardWords) return false;
-    // Registers make ptxas unroll every word of every board access into the
-    // rules, which it compiles as one kernel, so compile time grows with rule
-    // code times board words; past this size NVRTC takes over two seconds on
-    // the H100 machine (docs/performance.md: notsnake, 11.9 k, 1.8 s;
-    // match3, 17.3 k, 2.8 s), and local memory, compiled in parallel units, is
-    // chosen instead.
-    constexpr size_t kRegisterCodeBudget = 14000;
+namespace {
+
+GpuCode gpuCode(const ir::Game& game, const SourceOptions& options) {
     CodeWriter rules;
     emitRules(rules, game);
-    return rules.text().size() * static_cast<size_t>(boardWords(game, options)) <= kRegisterCodeBudget;
+    const size_t ruleBytes = rules.text().size();
+    const int words = boardWords(game, options);
+    GpuCode gpu;
+    if (options.gpuState != "auto") {
+        gpu.inRegisters = options.gpuState == "registers";
+    } else {
+        // Registers make ptxas unroll every word of every board access into
+        // the rules, which it compiles as one kernel, so compile time grows
+        // with rule code times board words; past this size NVRTC takes over
+        // two seconds on the H100 machine (docs/performance.md: notsnake,
+        // 11.9 k, 1.8 s; match3, 17.3 k, 2.8 s), and local memory, compiled in
+        // parallel units, is chosen instead.
+        constexpr size_t kRegisterCodeBudget = 14000;
+        gpu.inRegisters = words <= kMaxUnrolledBoardWords && ruleBytes * static_cast<size_t>(words) <= kRegisterCodeBudget;
+    }
+    const int groups = static_cast<int>(game.rules.size() + game.lateRules.size());
+    if (gpu.inRegisters || groups == 0) return gpu;
+    if (options.cudaUnits > 0) {
+        gpu.units = std::min(options.cudaUnits, groups + 1);
+    } else {
+        const int ruleUnits = static_cast<int>((ruleBytes + kRuleBytesPerUnit - 1) / kRuleBytesPerUnit);
+        gpu.units = 1 + std::min({std::max(ruleUnits, 1), groups, kMaxCompileUnits - 1});
+    }
+    return gpu;
 }
 
-int cudaCompileUnits(const ir::Game& game, const SourceOptions& options) {
-    if (gpuStateInRegisters(game, options)) return 1;
-    const int groups = static_cast<int>(game.rules.size() + game.lateRules.size());
-    if (groups == 0) return 1;
-    if (options.cudaUnits > 0) return std::min(options.cudaUnits, groups + 1);
-    CodeWriter rules;
-    emitRules(rules, game);
-    const int ruleUnits = static_cast<int>((rules.text().size() + kRuleBytesPerUnit - 1) / kRuleBytesPerUnit);
-    return 1 + std::min({std::max(ruleUnits, 1), groups, kMaxCompileUnits - 1});
+}  // namespace
+
+bool gpuStateInRegisters(const ir::Game& game, const SourceOptions& options) {
+    return gpuCode(game, options).inRegisters;
 }
 
 std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     CodeWriter out;
-    emitConstants(out, game, options);
+    const GpuCode gpu = gpuCode(game, options);
+    emitConstants(out, game, options, gpu);
     out.raw(templates::core());
     out.line();
     emitTables(out, game, options);
@@ -501,7 +519,7 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     out.open("namespace psc_game");
     out.line("PSC_DEVICE PSC_INLINE u32 queueCommands(u32 queue, u32 commands);");
     out.line();
-    emitRules(out, game, options.target == "cpu" ? 1 : cudaCompileUnits(game, options));
+    emitRules(out, game, options.target == "cpu" ? 1 : gpu.units);
     out.close("  // namespace psc_game");
     out.line();
     out.raw(templates::movement());

@@ -27,16 +27,12 @@ struct SourceOptions {
     // gpuStateInRegisters and templates/core.h).
     std::string gpuState = "auto";
     // CUDA compile units (templates/core.h) for a memory-layout game; 0: as
-    // many as its rule code calls for (cudaCompileUnits).
+    // many as its rule code calls for (one per 16 kB, at most 8 in all).
     int cudaUnits = 0;
 };
 
 // Whether the CUDA code keeps the state in registers, resolving "auto".
 bool gpuStateInRegisters(const ir::Game& game, const SourceOptions& options);
-
-// How many programs NVRTC compiles the CUDA code as, at once: 1 for the
-// registers layout, else unit 0 plus units for the rule groups.
-int cudaCompileUnits(const ir::Game& game, const SourceOptions& options);
 
 // The part that runs per environment (host and device): tables, rules, engine.
 std::string deviceSource(const ir::Game& game, const SourceOptions& options);

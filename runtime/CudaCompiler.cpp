@@ -133,7 +133,7 @@ bool linkUnits(const std::vector<UnitOutput>& units, int arch, CudaCompileResult
 bool nvrtcCompile(const std::string& source, const std::string& name, const CudaCompileOptions& options, CudaCompileResult& r) {
     // NVRTC (12.9+) shares the driver's compute cache, and a hit there returns
     // a cubin without ptxas's report, which sizes the kernels' stack
-    // (ptxasStackBytes).  psc caches whole results itself, so that cache is
+    // (stackBound).  psc caches whole results itself, so that cache is
     // turned off; NVRTC reads the variable once, at its first compilation.
     setenv("CUDA_CACHE_DISABLE", "1", 1);
     // A syntax check reads the source once, as one program: that is all of
