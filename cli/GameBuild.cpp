@@ -45,14 +45,16 @@ std::string readFile(const fs::path& p) {
     return ss.str();
 }
 
-void writeFile(const fs::path& p, const std::string& data) {
+bool writeFile(const fs::path& p, const std::string& data) {
     const fs::path tmp = p.string() + ".tmp";
     {
         std::ofstream out(tmp, std::ios::binary);
         out << data;
+        if (!out.flush()) return false;
     }
     std::error_code ec;
     fs::rename(tmp, p, ec);
+    return !ec;
 }
 
 // The compile units' PTX texts in one cache file, separated by NUL bytes.
@@ -70,6 +72,12 @@ std::vector<std::string> splitUnits(const std::string& text) {
     return units;
 }
 
+codegen::DeviceCodeFiles deviceCodeFiles(const CudaCompileResult& r, const fs::path& cubin, const fs::path& ptx) {
+    codegen::DeviceCodeFiles files{fs::absolute(cubin).string(), fs::absolute(ptx).string(), {}, r.stackBytes};
+    for (const auto& unit : r.ptx) files.ptxBytes.push_back(unit.size());
+    return files;
+}
+
 // ptxas's per-kernel lines (registers, spills, shared memory).
 void printResourceReport(const std::string& log) {
     std::istringstream in(log);
@@ -83,7 +91,8 @@ void printResourceReport(const std::string& log) {
 }  // namespace
 
 std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const std::string& text,
-                                                   const std::string& path, const GameBuildOptions& options) {
+                                                   const std::string& path, const GameBuildOptions& options,
+                                                   codegen::DeviceCodeFiles* files) {
     const codegen::SourceOptions so = sourceOptions(text, path, options);
     const std::string source = codegen::cudaSource(game, so);
     const std::string key = sha1Hex(fmt::format("{}\n{}\n{}\n{}", options.cuda.compiler, options.cuda.architecture,
@@ -103,6 +112,7 @@ std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const s
         r.log = readFile(logPath);
         r.stackBytes = stackBound(r.log, r.ptx);
         if (options.build.verbose) fmt::print(stderr, "psc: CUDA code from the cache ({})\n", cubinPath.string());
+        if (files) *files = deviceCodeFiles(r, cubinPath, ptxPath);
         return r;
     }
     if (!cudaCompilerAvailable(options.cuda.compiler)) {
@@ -131,9 +141,15 @@ std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const s
     fmt::print(stderr, "psc: CUDA compile ({}{}) {:.2f} s\n", options.cuda.compiler,
                r.units > 1 ? fmt::format(", {} units", r.units) : std::string(), r.seconds);
     fs::create_directories(dir, ec);
-    writeFile(cubinPath, std::string(r.cubin.begin(), r.cubin.end()));
-    writeFile(ptxPath, joinUnits(r.ptx));
-    writeFile(logPath, r.log);
+    const bool stored = writeFile(cubinPath, std::string(r.cubin.begin(), r.cubin.end())) &&
+                        writeFile(ptxPath, joinUnits(r.ptx)) && writeFile(logPath, r.log);
+    if (files) {
+        if (!stored) {
+            fmt::print(stderr, "{}: error: cannot write the CUDA code into the cache {}\n", path, dir.string());
+            return std::nullopt;
+        }
+        *files = deviceCodeFiles(r, cubinPath, ptxPath);
+    }
     return r;
 }
 
@@ -144,9 +160,9 @@ std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text
     if (options.target == "cpu") {
         source = codegen::cpuPluginSource(game, so);
     } else {
-        auto device = compileDeviceCode(game, text, path, options);
-        if (!device) return nullptr;
-        source = codegen::cudaPluginSource(game, so, device->cubin, device->ptx, device->stackBytes);
+        codegen::DeviceCodeFiles files;
+        if (!compileDeviceCode(game, text, path, options, &files)) return nullptr;
+        source = codegen::cudaPluginSource(game, so, files);
     }
     BuildResult built = buildCpuPlugin(source, options.build);
     if (!built.ok) {

@@ -530,24 +530,12 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
 
 namespace {
 
-// Bytes as a string literal: compilers read a literal far faster than a
-// brace list of numbers, which matters for cubins and PTX of megabytes.
-// Printable characters stay as they are; others become three-digit octal
-// escapes, which cannot swallow a following digit.
-std::string byteArray(const char* name, const char* data, size_t size) {
-    std::string out = fmt::format("static const unsigned char {}[{}] =", name, size + 1);
-    std::string line;
-    for (size_t i = 0; i < size; ++i) {
-        const auto c = static_cast<unsigned char>(data[i]);
-        if (c == '"' || c == '\\' || c == '?') line += fmt::format("\\{}", static_cast<char>(c));
-        else if (c >= 0x20 && c < 0x7f) line += static_cast<char>(c);
-        else line += fmt::format("\\{:03o}", c);
-        if (line.size() >= 96 || c == '\n' || i + 1 == size) {
-            out += "\n    \"" + line + "\"";
-            line.clear();
-        }
-    }
-    return out + (size ? ";\n" : " \"\";\n");
+// A file's bytes, then a NUL, as a hidden read-only symbol: an assembler
+// directive for the plugin's source (the assembler reads the file at build time).
+std::vector<std::string> includedBytes(const std::string& symbol, const std::string& path) {
+    std::string quoted;
+    for (char c : path) quoted += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
+    return {".balign 64", ".globl " + symbol, ".hidden " + symbol, symbol + ":", ".incbin \"" + quoted + "\"", ".byte 0"};
 }
 
 }  // namespace
@@ -578,23 +566,34 @@ void emitPluginPrologue(CodeWriter& out, const ir::Game& game, const SourceOptio
 }
 }  // namespace
 
-std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options, const std::vector<char>& cubin,
-                             const std::vector<std::string>& ptx, size_t stackBytes) {
+std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options, const DeviceCodeFiles& device) {
     CodeWriter out;
     emitPluginPrologue(out, game, options);
-    out.line("// ---- the game's device code, compiled for CUDA");
+    out.line("// ---- the game's device code, compiled for CUDA: the cubin, and the PTX of each compile");
+    out.line("// unit (templates/core.h) for GPUs the cubin is not for, each followed by a NUL byte.");
+    std::vector<std::string> directives = {".pushsection .rodata"};
+    for (const auto& d : includedBytes("psc_device_cubin", device.cubinPath)) directives.push_back(d);
+    for (const auto& d : includedBytes("psc_device_ptx", device.ptxPath)) directives.push_back(d);
+    directives.push_back(".popsection");
+    out.line("__asm__(");
+    for (const auto& d : directives) out.line("    " + cString(d + "\n"));
+    out.line(");");
+    out.line("extern \"C\" const unsigned char psc_device_cubin[];");
+    out.line("extern \"C\" const unsigned char psc_device_ptx[];");
     out.line("namespace psc_game {");
-    out.raw(byteArray("kCubin", cubin.data(), cubin.size()));
+    out.line("static const unsigned char* const kCubin = psc_device_cubin;");
     std::vector<std::string> units;
-    for (size_t k = 0; k < ptx.size(); ++k) {
-        units.push_back(fmt::format("kPtxUnit{}", k));
-        out.raw(byteArray(units.back().c_str(), ptx[k].data(), ptx[k].size()));
+    size_t offset = 0;
+    for (size_t bytes : device.ptxBytes) {
+        units.push_back(fmt::format("psc_device_ptx + {}", offset));
+        offset += bytes + 1;
     }
-    out.line("// PTX of each compile unit (templates/core.h), for GPUs the cubin is not for.");
     out.line(fmt::format("static const unsigned char* const kPtx[] = {{{}}};", join(units, ", ")));
-    out.line(fmt::format("static const size_t kPtxBytes[] = {{{}}};", list(ptx, [](const std::string& p) { return std::to_string(p.size()); })));
-    out.line(fmt::format("constexpr int kPtxUnits = {};", ptx.size()));
-    out.line(fmt::format("constexpr size_t kStackBytes = {};  // per thread, a bound on the kernels' call stacks", stackBytes));
+    out.line(fmt::format("static const size_t kPtxBytes[] = {{{}}};",
+                         list(device.ptxBytes, [](size_t b) { return std::to_string(b); })));
+    out.line(fmt::format("constexpr int kPtxUnits = {};", device.ptxBytes.size()));
+    out.line(fmt::format("constexpr size_t kStackBytes = {};  // per thread, a bound on the kernels' call stacks",
+                         device.stackBytes));
     out.line("}  // namespace psc_game");
     out.line();
     out.raw(templates::hostCuda());

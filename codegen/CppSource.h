@@ -40,11 +40,17 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options);
 std::string cpuPluginSource(const ir::Game& game, const SourceOptions& options);
 // The CUDA translation unit: the device part and the kernels (for NVRTC or nvcc).
 std::string cudaSource(const ir::Game& game, const SourceOptions& options);
-// The host translation unit of a plugin with both backends; `cubin` and
-// `ptx` (one text per compile unit) are the compiled cudaSource(), whose
-// kernels need `stackBytes` of stack a thread.
-std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options, const std::vector<char>& cubin,
-                             const std::vector<std::string>& ptx, size_t stackBytes);
+// The compiled cudaSource() as files: the plugin includes them with the
+// assembler (.incbin), since a large cubin spelled as a C++ array took most of
+// the host compile of a big game.
+struct DeviceCodeFiles {
+    std::string cubinPath;         // the linked cubin
+    std::string ptxPath;           // every compile unit's PTX, NUL-separated
+    std::vector<size_t> ptxBytes;  // each unit's size, in file order
+    size_t stackBytes = 0;         // per thread, a bound on the kernels' call stacks
+};
+// The host translation unit of a plugin with both backends.
+std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options, const DeviceCodeFiles& device);
 
 // Words of 64 bits per bitboard for the largest level built.
 int boardWords(const ir::Game& game, const SourceOptions& options);

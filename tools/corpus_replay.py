@@ -40,6 +40,11 @@ def sample_cases(cases, n):
     return (first + rest)[:n]
 
 
+def game_size(corpus, entry):
+    with open(os.path.join(corpus, entry["path"])) as f:
+        return len(json.load(f).get("game", ""))
+
+
 def file_sha1(path):
     try:
         with open(path, "rb") as f:
@@ -93,6 +98,9 @@ def main():
         cases = sorted((e for e in cases if e["id"] in ids), key=lambda e: order[e["id"]])
     if a.sample:
         cases = sample_cases(cases, a.sample)
+    # The largest games start first: compile time grows with the game, and the
+    # slowest cases would otherwise start last and leave the other jobs idle.
+    cases.sort(key=lambda e: -game_size(a.corpus, e))
     extra = ["--backend", a.backend] + (["--fast-compile", a.fast_compile] if a.fast_compile else [])
     if a.dumps:
         os.makedirs(a.dumps, exist_ok=True)
@@ -105,7 +113,7 @@ def main():
         if code != 0:
             first = [line for line in out.strip().splitlines() if "warning:" not in line][:3]
             print(f"FAIL {entry['id']}: " + " | ".join(first)[:300], flush=True)
-        if a.json and len(results) % 25 == 0:
+        if a.json and len(results) % 5 == 0:
             write_report(a, results)  # partial results survive a run cut short
 
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:

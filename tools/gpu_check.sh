@@ -14,7 +14,7 @@
 #             (plugins prebuilt here into out/python-gpu, carried)
 # FAST_COMPILE sets psc's --fast-compile (compile, prebuild, bench, replay);
 # GPU_STATE its --gpu-state (prebuild, bench); GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
-# REPLAY_IDS (a file of case ids) limits it to some cases;
+# REPLAY_IDS (a file of case ids) limits it to some cases, REPLAY_SUITES to some suites;
 # SANITIZE_EVERY picks every Nth carried case for the sanitizer.
 # Results go to $OUT (default out/gpu).   tools/gpu_check.sh compile bench
 set -uo pipefail
@@ -73,7 +73,7 @@ for stage in "$@"; do
         done
         ;;
     replay)
-        for suite in testsuite scraped; do
+        for suite in ${REPLAY_SUITES:-testsuite scraped}; do
             timeout "${REPLAY_SECONDS:-3000}" $python tools/corpus_replay.py --psc "$psc" --corpus $corpus --suite $suite --backend cuda "${fast[@]}" \
                 --jobs "$jobs" --dumps /tmp/psc-dumps/$suite --json "$out/${suite}_cuda.json" ${REPLAY_IDS:+--ids-file "$REPLAY_IDS"} | tail -5
         done
