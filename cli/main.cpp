@@ -134,8 +134,8 @@ int main(int argc, char** argv) {
     app.add_option("--gpu-state", gpuState, "where the GPU keeps each environment's state")
         ->check(CLI::IsMember({"auto", "registers", "memory"}));
     int cudaUnits = 0;
-    app.add_option("--cuda-units", cudaUnits, "CUDA compile units NVRTC compiles at once (memory layout); 0: by code size")
-        ->check(CLI::Range(0, 64));
+    const char* cudaUnitsHelp = "CUDA compile units NVRTC compiles at once (memory layout); 0: by code size";
+    app.add_option("--cuda-units", cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     app.add_flag("--verbose", verbose, "print the compiler command and cache use");
     app.add_flag("--native", native, "optimise the CPU code for this machine (-march=native)");
     std::vector<int> buildLevels;
@@ -157,6 +157,7 @@ int main(int argc, char** argv) {
     replay->add_option("--fast-compile", replayOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     replay->add_option("--gpu-state", replayOptions.build.gpuState, "where the GPU keeps each environment's state")
         ->check(CLI::IsMember({"auto", "registers", "memory"}));
+    replay->add_option("--cuda-units", replayOptions.build.cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     replay->add_option("--dump", replayOptions.dumpPath, "write every state as a JSON line to this file");
     replay->add_flag("--verbose", replayOptions.build.build.verbose, "print the compiler command and cache use");
 
@@ -173,8 +174,7 @@ int main(int argc, char** argv) {
     bench->add_option("--fast-compile", benchOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     bench->add_option("--gpu-state", benchOptions.build.gpuState, "where the GPU keeps each environment's state")
         ->check(CLI::IsMember({"auto", "registers", "memory"}));
-    bench->add_option("--cuda-units", benchOptions.build.cudaUnits, "CUDA compile units (memory layout); 0: by code size")
-        ->check(CLI::Range(0, 64));
+    bench->add_option("--cuda-units", benchOptions.build.cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     bench->add_flag("--native", benchOptions.build.build.native, "compile for this machine (-march=native)");
     bench->add_flag("--all-levels", benchOptions.allLevels, "build the plugin for every level, not only the one measured");
     bench->add_flag("--verbose", benchOptions.build.build.verbose, "print the compiler command and cache use");

@@ -39,7 +39,8 @@ static int psc_cuda_batch_create(const psc_batch_options* options, psc_batch** o
     size_t stack = 0;
     if (int s = check(d.cuCtxGetLimit(&stack, kStackLimit), "reading the stack limit")) return cleanup(s);
     if (stack < kStackBytes) {
-        if (int s = check(d.cuCtxSetLimit(kStackLimit, kStackBytes), "raising the stack limit")) return cleanup(s);
+        const std::string what = "raising the stack limit to " + std::to_string(kStackBytes) + " bytes a thread";
+        if (int s = check(d.cuCtxSetLimit(kStackLimit, kStackBytes), what.c_str())) return cleanup(s);
     }
     const CUresult loaded = loadModule(&cb->module);
     if (int s = check(loaded, "loading the game's kernels")) {
