@@ -293,7 +293,8 @@ size_t stackBound(const std::string& log, const std::vector<std::string>& ptx) {
         const auto it = frames.find(f);
         return it == frames.end() ? size_t{0} : it->second;
     };
-    // Strongly connected components (Tarjan); a component weighs the sum of its frames.
+    // Strongly connected components (Tarjan); a component weighs the sum of
+    // its frames, kMaxTurnNesting times over when it is a cycle.
     std::map<std::string, int> index, low, component;
     std::vector<std::string> stack;
     std::set<std::string> onStack;
@@ -316,6 +317,7 @@ size_t stackBound(const std::string& log, const std::vector<std::string>& ptx) {
         }
         if (low[f] != index[f]) return;
         weight.push_back(0);
+        bool cyclic = false;
         for (std::string member;;) {
             member = stack.back();
             stack.pop_back();
@@ -323,7 +325,9 @@ size_t stackBound(const std::string& log, const std::vector<std::string>& ptx) {
             component[member] = static_cast<int>(weight.size() - 1);
             weight.back() += frameOf(member);
             if (member == f) break;
+            cyclic = true;
         }
+        if (cyclic || (g.calls.count(f) && g.calls.at(f).count(f))) weight.back() *= kMaxTurnNesting;
     };
     // The heaviest chain of components from each kernel.
     std::map<int, std::set<int>> edges;

@@ -40,11 +40,15 @@ struct CudaCompileResult {
 // kernel, by the stack frames of ptxas's report (`log`) and the calls in the
 // PTX (one text per compile unit), plus kStackMargin.  ptxas's own
 // "cumulative stack size" leaves out the callees when the call graph has a
-// cycle, and psc's has one (a level won at a level's start loads the next
-// level), although the engine never goes round it twice in a row: a cycle
-// counts each of its functions once.  The driver reserves this much for every
-// thread the GPU can hold, so a loose bound (such as every frame added up)
-// runs out of memory on games with large boards.
+// cycle, and psc's has some: a turn that restarts the level, or wins and
+// loads the next one, runs the level's start turn inside it.  Turns nest at
+// most kMaxTurnNesting deep (an input's turn wins, the next level's start turn
+// restarts, the restarted start turn runs; a restart while restarting is
+// ignored and a start turn never wins), so a cycle's functions count that
+// many times.  The driver reserves the bound for every thread the GPU can
+// hold, so a loose one (such as every frame added up) runs out of memory on
+// games with large boards.
+constexpr int kMaxTurnNesting = 3;
 constexpr size_t kStackMargin = 1024;
 size_t stackBound(const std::string& log, const std::vector<std::string>& ptx);
 

@@ -41,14 +41,23 @@ PSC_DEVICE PSC_INLINE void outOfLine(Env& e, UndoStack& u, Event event) {
 
 // ---- undo history (a ring: when full, the oldest entry is dropped)
 
-PSC_DEVICE PSC_INLINE void pushUndo(UndoStack& u, const Snapshot& s) {
-    if (u.capacity == 0) return;
+// The slot the next entry goes to, the oldest dropped to make room; null
+// without an undo history.
+PSC_DEVICE PSC_INLINE Snapshot* nextUndo(UndoStack& u) {
+    if (u.capacity == 0) return nullptr;
     if (u.count == u.capacity) {
         u.head = (u.head + 1) % u.capacity;
         --u.count;
     }
-    u.entries[(u.head + u.count) % u.capacity] = s;
-    ++u.count;
+    return &u.entries[(u.head + u.count++) % u.capacity];
+}
+PSC_DEVICE PSC_INLINE void pushUndo(UndoStack& u, const Snapshot& s) {
+    if (Snapshot* slot = nextUndo(u)) *slot = s;
+}
+// The level as it is now, saved straight into the history: a snapshot on the
+// stack would add a level's worth of objects to every GPU thread's stack.
+PSC_DEVICE PSC_INLINE void pushUndoObjects(UndoStack& u, const Env& e) {
+    if (Snapshot* slot = nextUndo(u)) saveObjects(e, *slot);
 }
 PSC_DEVICE PSC_INLINE Snapshot& topUndo(UndoStack& u) { return u.entries[(u.head + u.count - 1) % u.capacity]; }
 PSC_DEVICE PSC_INLINE void clearUndo(UndoStack& u) {
@@ -95,8 +104,7 @@ PSC_DEVICE PSC_COLD void doUndo(Env& e, UndoStack& u, bool force, bool ignoreDup
         while (u.count > 0 && sameObjects(e, topUndo(u))) --u.count;
     }
     if (u.count > 0) {
-        const Snapshot s = topUndo(u);
-        restoreLevel(e, s);
+        restoreLevel(e, topUndo(u));
         --u.count;
     }
 }
@@ -106,13 +114,8 @@ PSC_DEVICE PSC_COLD void doRestart(Env& e, UndoStack& u, bool force) {
     if (!force && kNoRestart) return;
     if (e.againing) doUndo(e, u, force, true);
     e.restarting = 1;
-    if (!force) {
-        Snapshot s;
-        saveObjects(e, s);
-        pushUndo(u, s);
-    }
-    const Snapshot target = e.restartTarget;
-    restoreLevel(e, target);
+    if (!force) pushUndoObjects(u, e);
+    restoreLevel(e, e.restartTarget);
     if (kRunRulesOnLevelStart) coldTurn(e, u, true);
     e.queue = 0;
     e.restarting = 0;

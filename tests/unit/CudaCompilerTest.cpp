@@ -76,7 +76,7 @@ TEST_CASE("NVRTC compiles a source's compile units separately and links them int
     CHECK(unresolved.log.find("linking the compile units failed") != std::string::npos);
 }
 
-TEST_CASE("the stack bound is the heaviest chain of calls from a kernel, a cycle counted once", "[cuda]") {
+TEST_CASE("the stack bound is the heaviest chain of calls from a kernel, a cycle kMaxTurnNesting times", "[cuda]") {
     // k calls a (which calls b) and c; b and d call each other; e is never called.
     const std::vector<std::string> ptx = {
         ".visible .entry k(\n.param .u64 p\n)\n{\n\tcall.uni \n\ta, \n\t(\n\tparam0\n\t);\n"
@@ -91,10 +91,14 @@ TEST_CASE("the stack bound is the heaviest chain of calls from a kernel, a cycle
     };
     const std::string log = frame("k", 100) + frame("a", 10) + frame("b", 1000) + frame("d", 300) + frame("c", 2000) +
                             frame("e", 50000) + frame("b", 900);
-    // k + max(a + {b, d}, c) = 100 + max(10 + 1300, 2000).
-    CHECK(stackBound(log, ptx) == 100 + 2000 + kStackMargin);
-    // With c lighter, the path through the cycle is the heaviest.
-    const std::string lighter = frame("k", 100) + frame("a", 10) + frame("b", 1000) + frame("d", 300) + frame("c", 20);
-    CHECK(stackBound(lighter, ptx) == 100 + 10 + 1300 + kStackMargin);
+    // k + max(a + the cycle {b, d} gone round kMaxTurnNesting times, c).
+    CHECK(stackBound(log, ptx) == 100 + 10 + kMaxTurnNesting * 1300 + kStackMargin);
+    // With c heavier, the path to c is the heaviest.
+    const std::string heavier = frame("k", 100) + frame("a", 10) + frame("b", 1000) + frame("d", 300) + frame("c", 9000);
+    CHECK(stackBound(heavier, ptx) == 100 + 9000 + kStackMargin);
     CHECK(stackBound("", {}) == kStackMargin);
+    // A function that calls itself is a cycle too.
+    const std::vector<std::string> selfCall = {".visible .entry k(\n)\n{\n\tcall.uni \n\tf, \n\t(\n\t);\n}\n"
+                                               ".func f(\n)\n{\n\tcall.uni \n\tf, \n\t(\n\t);\n}\n"};
+    CHECK(stackBound(frame("k", 10) + frame("f", 100), selfCall) == 10 + kMaxTurnNesting * 100 + kStackMargin);
 }
