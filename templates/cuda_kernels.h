@@ -1,9 +1,28 @@
 // ---- psc template: CUDA kernels ---------------------------------------------
 // One thread per environment.  The stepping kernel copies its environment
 // into registers (local storage where it does not fit), runs any number of
-// steps on it, and writes it back once.
+// steps on it, and writes it back once; an environment too large for a
+// thread's stack is stepped where it lies in the batch (SteppedEnv).
 
 namespace psc_game {
+
+// The environment a stepping thread works on: its own copy, or the batch's
+// when the copy would be large.  The driver reserves a thread's stack for
+// every thread the GPU can hold (about 270,000 on an H100) and allows 512 kB
+// at most, so a copy of a large environment on the stack keeps a game with
+// large boards off the GPU.
+template <bool InPlace = !PSC_STATE_IN_REGISTERS && (sizeof(Env) > 128 * 1024)>
+struct SteppedEnv {
+    Env e;
+    __device__ PSC_INLINE explicit SteppedEnv(const Env& batchEnv) : e(batchEnv) {}
+    __device__ PSC_INLINE void keep(Env& batchEnv) const { batchEnv = e; }
+};
+template <>
+struct SteppedEnv<true> {
+    Env& e;
+    __device__ PSC_INLINE explicit SteppedEnv(Env& batchEnv) : e(batchEnv) {}
+    __device__ PSC_INLINE void keep(Env&) const {}
+};
 
 __device__ PSC_INLINE UndoStack undoOf(const DeviceBatch& b, int i) {
     UndoStack u;
@@ -68,7 +87,8 @@ extern "C" __global__ void psc_run_kernel(psc_game::DeviceBatch b, int steps, co
     unsigned long long done = 0;
     unsigned long long badActions = 0;
     if (i < b.numEnvs) {
-        Env e = b.envs[i];
+        SteppedEnv<> stepped(b.envs[i]);
+        Env& e = stepped.e;
         UndoStack u = undoOf(b, i);
         for (int k = 0; k < steps; ++k) {
             const unsigned long long at = static_cast<unsigned long long>(k) * b.numEnvs + i;
@@ -90,7 +110,7 @@ extern "C" __global__ void psc_run_kernel(psc_game::DeviceBatch b, int steps, co
         done = static_cast<unsigned long long>(steps);
         keepUndo(b, i, u);
         b.episodeSteps[i] = e.episodeSteps;
-        b.envs[i] = e;
+        stepped.keep(b.envs[i]);
         if (observe) {
             const unsigned long long bytes = static_cast<unsigned long long>(b.channels) * b.maxWidth * b.maxHeight;
             observeEnvironment(b.envs[i], b.channelObjects, b.channels, b.maxWidth, b.maxHeight, b.observations + bytes * i);
