@@ -503,10 +503,6 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options) {
 
 }  // namespace
 
-bool gpuStateInRegisters(const ir::Game& game, const SourceOptions& options) {
-    return gpuCode(game, options).inRegisters;
-}
-
 std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     CodeWriter out;
     const GpuCode gpu = gpuCode(game, options);

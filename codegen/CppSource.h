@@ -23,16 +23,13 @@ struct SourceOptions {
     // every step cheaper.
     std::vector<int> levels;
     // Where the GPU keeps each environment's state: "registers", "memory"
-    // (local memory), or "auto" (chosen from the game's size; see
-    // gpuStateInRegisters and templates/core.h).
+    // (local memory), or "auto" (chosen from the game's rule code and board
+    // size; see templates/core.h).
     std::string gpuState = "auto";
     // CUDA compile units (templates/core.h) for a memory-layout game; 0: as
     // many as its rule code calls for (one per 16 kB, at most 8 in all).
     int cudaUnits = 0;
 };
-
-// Whether the CUDA code keeps the state in registers, resolving "auto".
-bool gpuStateInRegisters(const ir::Game& game, const SourceOptions& options);
 
 // The part that runs per environment (host and device): tables, rules, engine.
 std::string deviceSource(const ir::Game& game, const SourceOptions& options);

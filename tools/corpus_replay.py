@@ -94,8 +94,7 @@ def main():
         with open(a.ids_file) as f:
             ids |= {line.strip() for line in f if line.strip()}
     if ids:
-        order = {i: n for n, i in enumerate(a.ids + (open(a.ids_file).read().split() if a.ids_file else []))}
-        cases = sorted((e for e in cases if e["id"] in ids), key=lambda e: order[e["id"]])
+        cases = [e for e in cases if e["id"] in ids]
     if a.sample:
         cases = sample_cases(cases, a.sample)
     # The largest games start first: compile time grows with the game, and the
