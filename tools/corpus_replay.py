@@ -21,9 +21,6 @@ import subprocess
 import sys
 import time
 
-TIMEOUT_S = 300
-
-
 def load_index(corpus):
     with open(os.path.join(corpus, "INDEX.json")) as f:
         return json.load(f)
@@ -53,16 +50,16 @@ def file_sha1(path):
         return None
 
 
-def replay(psc, corpus, entry, extra, dumps):
+def replay(psc, corpus, entry, extra, dumps, timeout):
     path = os.path.join(corpus, entry["path"])
     dump = os.path.join(dumps, entry["id"] + ".jsonl") if dumps else None
     start = time.time()
     try:
         r = subprocess.run([psc, "replay", path] + extra + (["--dump", dump] if dump else []),
-                           capture_output=True, text=True, timeout=TIMEOUT_S)
+                           capture_output=True, text=True, timeout=timeout)
         code, out = r.returncode, (r.stdout + r.stderr)
     except subprocess.TimeoutExpired:
-        code, out = 3, f"timed out after {TIMEOUT_S} s"
+        code, out = 3, f"timed out after {timeout} s"
     return entry, code, out, time.time() - start, file_sha1(dump) if dump else None
 
 
@@ -85,6 +82,7 @@ def main():
     ap.add_argument("--fast-compile", default="", help="psc replay's --fast-compile (CUDA)")
     ap.add_argument("--dumps", default="", help="write every case's states to this folder")
     ap.add_argument("--ids-file", default="", help="replay the case ids listed in this file (one a line)")
+    ap.add_argument("--timeout", type=float, default=300, help="seconds a case may take, compile included")
     ap.add_argument("ids", nargs="*")
     a = ap.parse_args()
 
@@ -112,11 +110,11 @@ def main():
         if code != 0:
             first = [line for line in out.strip().splitlines() if "warning:" not in line][:3]
             print(f"FAIL {entry['id']}: " + " | ".join(first)[:300], flush=True)
-        if a.json and len(results) % 5 == 0:
+        if a.json:
             write_report(a, results)  # partial results survive a run cut short
 
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        futures = [pool.submit(replay, a.psc, a.corpus, e, extra, a.dumps) for e in cases]
+        futures = [pool.submit(replay, a.psc, a.corpus, e, extra, a.dumps, a.timeout) for e in cases]
         for future in concurrent.futures.as_completed(futures):
             entry, code, out, seconds, sha1 = future.result()
             if a.backend == "cuda" and code == 2 and "out of memory" in out and a.jobs > 1:
@@ -126,7 +124,7 @@ def main():
     # A game with large boards reserves tens of GB of stack (CudaCompiler.h,
     # stackBound); such replays run one at a time.
     for entry in retry:
-        record(*replay(a.psc, a.corpus, entry, extra, a.dumps))
+        record(*replay(a.psc, a.corpus, entry, extra, a.dumps, a.timeout))
     results.sort(key=lambda r: r["id"])
     passed = sum(r["status"] == "pass" for r in results)
     pct = 100.0 * passed / len(results) if results else 100.0

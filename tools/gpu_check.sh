@@ -12,10 +12,12 @@
 #             compile units linked by the driver): a rollout and a few replays
 #   python    the Python package on the GPU: zero-copy views, CUDA tests, PPO
 #             (plugins prebuilt here into out/python-gpu, carried)
-# FAST_COMPILE sets psc's --fast-compile (compile, prebuild, bench, replay);
+# FAST_COMPILE sets psc's --fast-compile (compile, prebuild, bench, replay, sanitize);
 # GPU_STATE its --gpu-state (prebuild, bench); GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
-# REPLAY_IDS (a file of case ids) limits it to some cases, REPLAY_SUITES to some suites;
-# SANITIZE_EVERY picks every Nth carried case for the sanitizer.
+# REPLAY_IDS (a file of case ids) limits it to some cases, REPLAY_SUITES to some suites,
+# REPLAY_JOBS sets how many run at once and REPLAY_CASE_SECONDS how long each may take;
+# SANITIZE_EVERY picks every Nth carried case for the sanitizer, SANITIZE_IDS (a file of
+# case ids) names them instead, SANITIZE_JOBS sets how many run at once.
 # Results go to $OUT (default out/gpu).   tools/gpu_check.sh compile bench
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -75,20 +77,28 @@ for stage in "$@"; do
     replay)
         for suite in ${REPLAY_SUITES:-testsuite scraped}; do
             timeout "${REPLAY_SECONDS:-3000}" $python tools/corpus_replay.py --psc "$psc" --corpus $corpus --suite $suite --backend cuda "${fast[@]}" \
-                --jobs "$jobs" --dumps /tmp/psc-dumps/$suite --json "$out/${suite}_cuda.json" ${REPLAY_IDS:+--ids-file "$REPLAY_IDS"} | tail -5
+                --jobs "${REPLAY_JOBS:-$jobs}" --timeout "${REPLAY_CASE_SECONDS:-300}" --dumps /tmp/psc-dumps/$suite --json "$out/${suite}_cuda.json" ${REPLAY_IDS:+--ids-file "$REPLAY_IDS"} | tail -5
         done
         ;;
     sanitize)
-        mkdir -p "$out/sanitize"
-        for id in $($python -c "import json; d=json.load(open('$corpus/INDEX.json')); print(' '.join(e['path'] for e in d[::${SANITIZE_EVERY:-60}]))"); do
-            name=$(basename "$id" .json)
-            compute-sanitizer --tool memcheck --error-exitcode 9 "$psc" replay "$corpus/$id" --backend cuda \
-                > "$out/sanitize/$name.txt" 2>&1
-            echo "$name: exit $? $(grep -c 'Invalid' "$out/sanitize/$name.txt") invalid accesses"
-        done
+        # Cases side by side (each compiles first, most of its time).  A line
+        # per case goes to sanitize.txt as it ends, the full reports into
+        # sanitize.tar.gz (few files come back from a device call).
+        logs=$(mktemp -d)
+        summary="$out/sanitize.txt"
+        : > "$summary"
+        cases=$($python -c "import json; d=json.load(open('$corpus/INDEX.json')); ids=set(open('${SANITIZE_IDS:-}').read().split()) if '${SANITIZE_IDS:-}' else None; print(' '.join(e['path'] for e in (d[::${SANITIZE_EVERY:-60}] if ids is None else [e for e in d if e['id'] in ids])))")
+        printf '%s\n' $cases | xargs -P "${SANITIZE_JOBS:-$jobs}" -I{} sh -c 'p=$0 c=$1 logs=$2 summary=$3; shift 3
+            log="$logs/$(basename "$c" .json).txt"
+            compute-sanitizer --tool memcheck --error-exitcode 9 "$p" replay "$c" --backend cuda "$@" > "$log" 2>&1
+            rc=$?
+            echo "$(basename "$c" .json): exit $rc $(grep -o "ERROR SUMMARY: [0-9]* errors\?" "$log")" >> "$summary"' \
+            "$psc" "$corpus/{}" "$logs" "$summary" "${fast[@]}"
         compute-sanitizer --tool memcheck --error-exitcode 9 "$psc" bench bench/games/sokoban.txt --backend cuda \
-            --batch 1,1000 --steps 50 --repeats 1 --warmup 0 > "$out/sanitize/bench_sokoban.txt" 2>&1
-        echo "bench sokoban: exit $? $(grep -c 'Invalid' "$out/sanitize/bench_sokoban.txt") invalid accesses"
+            --batch 1,1000 --steps 50 --repeats 1 --warmup 0 > "$logs/bench_sokoban.txt" 2>&1
+        echo "bench sokoban: exit $? $(grep -o 'ERROR SUMMARY: [0-9]* errors\?' "$logs/bench_sokoban.txt")" >> "$summary"
+        cat "$summary"
+        tar -czf "$out/sanitize.tar.gz" -C "$logs" .
         ;;
     fromptx)
         mkdir -p "$out/fromptx"
