@@ -6,6 +6,10 @@
 # path used here (/tmp/psc-corpus, as on the device) make the generated
 # sources, and so the cache keys, the same there.  Each replay stops after the
 # build here (no CUDA driver); the compiled code stays in the cache.
+# A device call carries at most 64 MiB: the largest rule sets do not fit (at
+# --fast-compile max, 23 of the slowest testsuite games came to 2 GB of PTX
+# and cubin), so this is for games of middling size; give the largest the
+# device's cores instead (REPLAY_JOBS in tools/gpu_check.sh).
 #   tools/device_prebuild.sh IDS_FILE [FAST_COMPILE]      (JOBS: parallel builds)
 set -euo pipefail
 cd "$(dirname "$0")/.."
