@@ -4,13 +4,14 @@
     tools/corpus_replay.py [--psc build/cli/psc] [--corpus ../shared/corpus]
                            [--suite testsuite|scraped|all] [--jobs N] [--sample N]
                            [--backend cpu|cuda] [--fast-compile LEVEL] [--dumps DIR] [--json report.json]
-                           [--min PERCENT] [IDS...]
+                           [--min PERCENT] [--ids-file FILE] [--timeout S] [--list] [IDS...]
 
 Each case is replayed in its own process (a crash or hang in one case cannot
 hide the others).  Prints one line per failing case and a summary; exits 1 if
 the pass rate is below --min.  With --dumps, every case's states are written
 to DIR/<id>.jsonl and the report gives each dump's sha1, so the states of two
-backends can be compared case by case (tools/compare_dumps.py).
+backends can be compared case by case (tools/compare_dumps.py).  --list
+prints the chosen cases' paths, largest game first, and replays nothing.
 """
 import argparse
 import concurrent.futures
@@ -83,6 +84,7 @@ def main():
     ap.add_argument("--dumps", default="", help="write every case's states to this folder")
     ap.add_argument("--ids-file", default="", help="replay the case ids listed in this file (one a line)")
     ap.add_argument("--timeout", type=float, default=300, help="seconds a case may take, compile included")
+    ap.add_argument("--list", action="store_true", help="print the chosen cases' paths instead of replaying them")
     ap.add_argument("ids", nargs="*")
     a = ap.parse_args()
 
@@ -98,20 +100,26 @@ def main():
     # The largest games start first: compile time grows with the game, and the
     # slowest cases would otherwise start last and leave the other jobs idle.
     cases.sort(key=lambda e: -game_size(a.corpus, e))
+    if a.list:
+        print("\n".join(os.path.join(a.corpus, e["path"]) for e in cases))
+        return
     extra = ["--backend", a.backend] + (["--fast-compile", a.fast_compile] if a.fast_compile else [])
     if a.dumps:
         os.makedirs(a.dumps, exist_ok=True)
     results = []
     retry = []
+    reported = time.time()
 
     def record(entry, code, out, seconds, sha1):
+        nonlocal reported
         results.append({"id": entry["id"], "status": {0: "pass", 1: "mismatch", 2: "error", 3: "timeout"}.get(code, f"crash({code})"),
                         "output": out.strip()[-2000:], "seconds": round(seconds, 2), "dump_sha1": sha1})
         if code != 0:
             first = [line for line in out.strip().splitlines() if "warning:" not in line][:3]
             print(f"FAIL {entry['id']}: " + " | ".join(first)[:300], flush=True)
-        if a.json:
+        if a.json and time.time() - reported > 5:
             write_report(a, results)  # partial results survive a run cut short
+            reported = time.time()
 
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
         futures = [pool.submit(replay, a.psc, a.corpus, e, extra, a.dumps, a.timeout) for e in cases]

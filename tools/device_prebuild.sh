@@ -19,14 +19,8 @@ corpus=/tmp/psc-corpus
 cache=$PWD/device/cache
 rm -rf "$corpus" && mkdir -p "$corpus" && tar -xJf device/corpus.tar.xz -C "$corpus"
 export LD_LIBRARY_PATH=$PWD/device/lib:${LD_LIBRARY_PATH:-}
-/usr/bin/python3 - "$corpus" "$ids" <<'PY' | xargs -P "${JOBS:-2}" -I{} sh -c \
+/usr/bin/python3 tools/corpus_replay.py --corpus "$corpus" --suite all --ids-file "$ids" --list | xargs -P "${JOBS:-2}" -I{} sh -c \
     'XDG_CACHE_HOME="$0" timeout 1800 device/bin/psc replay "$1" --backend cuda --fast-compile "$2" --verbose 2>&1 | grep -c "CUDA compile\|CUDA code from the cache" >/dev/null && echo "built $1" || echo "FAILED $1"' \
     "$cache" {} "$fast"
-import json, os, sys
-corpus, ids = sys.argv[1], set(open(sys.argv[2]).read().split())
-for e in json.load(open(os.path.join(corpus, "INDEX.json"))):
-    if e["id"] in ids:
-        print(os.path.join(corpus, e["path"]))
-PY
 (cd "$cache" && tar -cJf ../cache.tar.xz psc/*.cubin psc/*.ptx psc/*.ptxas.log)
 du -sh device/cache.tar.xz

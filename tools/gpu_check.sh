@@ -87,13 +87,17 @@ for stage in "$@"; do
         logs=$(mktemp -d)
         summary="$out/sanitize.txt"
         : > "$summary"
-        cases=$($python -c "import json; d=json.load(open('$corpus/INDEX.json')); ids=set(open('${SANITIZE_IDS:-}').read().split()) if '${SANITIZE_IDS:-}' else None; print(' '.join(e['path'] for e in (d[::${SANITIZE_EVERY:-60}] if ids is None else [e for e in d if e['id'] in ids])))")
+        if [ -n "${SANITIZE_IDS:-}" ]; then
+            cases=$($python tools/corpus_replay.py --corpus $corpus --suite all --ids-file "$SANITIZE_IDS" --list)
+        else
+            cases=$($python -c "import json; d=json.load(open('$corpus/INDEX.json')); print(' '.join('$corpus/' + e['path'] for e in d[::${SANITIZE_EVERY:-60}]))")
+        fi
         printf '%s\n' $cases | xargs -P "${SANITIZE_JOBS:-$jobs}" -I{} sh -c 'p=$0 c=$1 logs=$2 summary=$3; shift 3
             log="$logs/$(basename "$c" .json).txt"
             compute-sanitizer --tool memcheck --error-exitcode 9 "$p" replay "$c" --backend cuda "$@" > "$log" 2>&1
             rc=$?
             echo "$(basename "$c" .json): exit $rc $(grep -o "ERROR SUMMARY: [0-9]* errors\?" "$log")" >> "$summary"' \
-            "$psc" "$corpus/{}" "$logs" "$summary" "${fast[@]}"
+            "$psc" {} "$logs" "$summary" "${fast[@]}"
         compute-sanitizer --tool memcheck --error-exitcode 9 "$psc" bench bench/games/sokoban.txt --backend cuda \
             --batch 1,1000 --steps 50 --repeats 1 --warmup 0 > "$logs/bench_sokoban.txt" 2>&1
         echo "bench sokoban: exit $? $(grep -o 'ERROR SUMMARY: [0-9]* errors\?' "$logs/bench_sokoban.txt")" >> "$summary"
