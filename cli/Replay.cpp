@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -12,6 +13,10 @@ namespace {
 using nlohmann::json;
 
 constexpr int kReplayUndoDepth = 4096;
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 int actionOf(const std::string& input) {
     static const char* const kNames[] = {"up", "left", "down", "right", "action", "undo", "restart", "tick"};
@@ -96,11 +101,19 @@ int runReplay(const ReplayOptions& options) {
         psc_batch_options bo = defaultBatchOptions();
         bo.undo_depth = kReplayUndoDepth;
         bo.backend = options.backend == "cuda" ? PSC_BACKEND_CUDA : PSC_BACKEND_CPU;
+        // Under --verbose: where a replay's time goes (a GPU replay steps one
+        // environment on one thread, so its stepping can outweigh the compile).
+        const auto created = Clock::now();
         Batch batch(*plugin, bo);
         const std::string seed = c.at("level_seed").get<std::string>();
         batch.check(plugin->resetEntry(batch.get(), 0, c.at("start_level").get<int>(), seed.c_str()), "starting the level");
+        if (options.build.build.verbose) fmt::print(stderr, "psc: batch created and level started in {:.2f} s\n", secondsSince(created));
+        double stepSeconds = 0, compareSeconds = 0;
+        auto lastProgress = Clock::now();
         auto compare = [&](const json& expected, const std::string& label) {
+            const auto start = Clock::now();
             const json actual = json::parse(batch.dump(0));
+            compareSeconds += secondsSince(start);
             if (dump) dump << actual.dump() << "\n";
             if (comparable(expected) == actual) return true;
             fmt::print("MISMATCH {} {}\n", c.value("id", options.casePath), label);
@@ -117,8 +130,18 @@ int runReplay(const ReplayOptions& options) {
                 return 2;
             }
             int32_t a = action;
+            const auto start = Clock::now();
             batch.check(plugin->step(batch.get(), &a, nullptr), "stepping");
+            stepSeconds += secondsSince(start);
+            if (options.build.build.verbose && secondsSince(lastProgress) >= 10) {
+                fmt::print(stderr, "psc: {} of {} inputs stepped ({:.2f} s)\n", i + 1, inputs.size(), stepSeconds);
+                lastProgress = Clock::now();
+            }
             if (!compare(steps.at(i), fmt::format("after input {} ({})", i, inputs[i].get<std::string>()))) return 1;
+        }
+        if (options.build.build.verbose) {
+            fmt::print(stderr, "psc: {} inputs stepped in {:.2f} s, states read back in {:.2f} s\n", inputs.size(),
+                       stepSeconds, compareSeconds);
         }
     } catch (const std::exception& e) {
         fmt::print(stderr, "{}: error: {}\n", options.casePath, e.what());

@@ -50,18 +50,18 @@ int runCheck(const std::string& path, bool cuda) {
     return 1;
 }
 
-int runEmit(const std::string& path, const std::string& stage, const std::string& format, bool keepGoing) {
+int runEmit(const std::string& path, const std::string& stage, const std::string& format, bool keepGoing,
+            const std::vector<int>& levels) {
     auto source = cli::readSource(path);
     if (!source) return 1;
     if (stage == "cpp") {
         cli::GameBuildOptions gb;
         gb.keepGoing = keepGoing;
+        gb.levels = levels;
+        gb.target = "cpu";
         auto game = cli::compileForBuild(*source, path, gb);
         if (!game) return 1;
-        codegen::SourceOptions so;
-        so.sourceName = path;
-        so.sourceSha1 = sha1Hex(*source);
-        fmt::print("{}", codegen::cpuPluginSource(*game, so));
+        fmt::print("{}", codegen::cpuPluginSource(*game, cli::sourceOptions(*source, path, gb)));
         return 0;
     }
     if (stage == "ast") {
@@ -132,7 +132,7 @@ int main(int argc, char** argv) {
     const char* fastCompileHelp = "CUDA -Ofast-compile level: 0 (full optimisation), min, mid, max";
     app.add_option("--fast-compile", fastCompile, fastCompileHelp)->check(fastCompileLevels);
     app.add_option("--gpu-state", gpuState, "where the GPU keeps each environment's state")
-        ->check(CLI::IsMember({"auto", "registers", "memory"}));
+        ->check(CLI::IsMember({"auto", "registers", "memory", "shared"}));
     int cudaUnits = 0;
     const char* cudaUnitsHelp = "CUDA compile units NVRTC compiles at once (memory layout); 0: by code size";
     app.add_option("--cuda-units", cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
@@ -156,7 +156,7 @@ int main(int argc, char** argv) {
     replay->add_option("--backend", replayOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
     replay->add_option("--fast-compile", replayOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     replay->add_option("--gpu-state", replayOptions.build.gpuState, "where the GPU keeps each environment's state")
-        ->check(CLI::IsMember({"auto", "registers", "memory"}));
+        ->check(CLI::IsMember({"auto", "registers", "memory", "shared"}));
     replay->add_option("--cuda-units", replayOptions.build.cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     replay->add_option("--dump", replayOptions.dumpPath, "write every state as a JSON line to this file");
     replay->add_flag("--verbose", replayOptions.build.build.verbose, "print the compiler command and cache use");
@@ -173,7 +173,7 @@ int main(int argc, char** argv) {
     bench->add_option("--backend", benchOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
     bench->add_option("--fast-compile", benchOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     bench->add_option("--gpu-state", benchOptions.build.gpuState, "where the GPU keeps each environment's state")
-        ->check(CLI::IsMember({"auto", "registers", "memory"}));
+        ->check(CLI::IsMember({"auto", "registers", "memory", "shared"}));
     bench->add_option("--cuda-units", benchOptions.build.cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     bench->add_flag("--native", benchOptions.build.build.native, "compile for this machine (-march=native)");
     bench->add_flag("--all-levels", benchOptions.allLevels, "build the plugin for every level, not only the one measured");
@@ -238,5 +238,5 @@ int main(int argc, char** argv) {
         }
         return 0;
     }
-    return runEmit(game, emit, format, keepGoing);
+    return runEmit(game, emit, format, keepGoing, buildLevels);
 }

@@ -23,8 +23,9 @@ struct SourceOptions {
     // every step cheaper.
     std::vector<int> levels;
     // Where the GPU keeps each environment's state: "registers", "memory"
-    // (local memory), or "auto" (chosen from the game's rule code and board
-    // size; see templates/core.h).
+    // (local memory), "shared" (the memory layout, stepped in shared memory),
+    // or "auto" (chosen from the game's rule code and board size; see
+    // templates/core.h).
     std::string gpuState = "auto";
     // CUDA compile units (templates/core.h) for a memory-layout game; 0: as
     // many as its rule code calls for (one per 16 kB, at most 8 in all).

@@ -14,7 +14,8 @@
 // events (level loads, restarts, undo), compiled once, out of line.
 //
 // On the GPU, code generation picks one of two state layouts per game
-// (PSC_STATE_IN_REGISTERS, set above):
+// (PSC_STATE_IN_REGISTERS, set above; --gpu-state shared is the memory layout
+// with the stepping kernel's copy in shared memory, PSC_STATE_IN_SHARED):
 //  - registers (small games): the generated rules (PSC_RULE) and layer
 //    helpers (PSC_LAYER) are inlined into one body per kernel, so that the
 //    environment's boards are registers;
@@ -362,6 +363,12 @@ struct Env {
     u8 seedLength;
 #endif
 };
+
+// With PSC_STATE_IN_SHARED the stepping kernel keeps each thread's copy of
+// its environment in shared memory, this many bytes apart: an odd number of
+// 8-byte words, so that a warp's threads reading the same field hit
+// different banks.
+constexpr unsigned kSharedEnvStride = static_cast<unsigned>(((sizeof(Env) + 7) / 8 | 1) * 8);
 
 // Storage for one environment's undo history, outside Env so that its depth
 // can be chosen per batch (zero disables undo).

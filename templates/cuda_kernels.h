@@ -1,27 +1,44 @@
 // ---- psc template: CUDA kernels ---------------------------------------------
 // One thread per environment.  The stepping kernel copies its environment
-// into registers (local storage where it does not fit), runs any number of
-// steps on it, and writes it back once; an environment too large for a
-// thread's stack is stepped where it lies in the batch (SteppedEnv).
+// into registers (local storage where it does not fit, or shared memory with
+// PSC_STATE_IN_SHARED), runs any number of steps on it, and writes it back
+// once; an environment too large for a thread's stack is stepped where it
+// lies in the batch (SteppedEnv).
 
 namespace psc_game {
 
-// The environment a stepping thread works on: its own copy, or the batch's
-// when the copy would be large.  The driver reserves a thread's stack for
-// every thread the GPU can hold (about 270,000 on an H100) and allows 512 kB
-// at most, so a copy of a large environment on the stack keeps a game with
-// large boards off the GPU.
-template <bool InPlace = !PSC_STATE_IN_REGISTERS && (sizeof(Env) > 128 * 1024)>
+// Where a stepping thread's environment lies.  The driver reserves a thread's
+// stack for every thread the GPU can hold (about 270,000 on an H100) and
+// allows 512 kB at most, so a copy of a large environment on the stack keeps
+// a game with large boards off the GPU: those are stepped in the batch.
+enum class EnvHome { kStack, kBatch, kShared };
+constexpr EnvHome kEnvHome = PSC_STATE_IN_SHARED                                   ? EnvHome::kShared
+                             : !PSC_STATE_IN_REGISTERS && sizeof(Env) > 128 * 1024 ? EnvHome::kBatch
+                                                                                   : EnvHome::kStack;
+
+template <EnvHome Home = kEnvHome>
 struct SteppedEnv {
     Env e;
     __device__ PSC_INLINE explicit SteppedEnv(const Env& batchEnv) : e(batchEnv) {}
     __device__ PSC_INLINE void keep(Env& batchEnv) const { batchEnv = e; }
 };
 template <>
-struct SteppedEnv<true> {
+struct SteppedEnv<EnvHome::kBatch> {
     Env& e;
     __device__ PSC_INLINE explicit SteppedEnv(Env& batchEnv) : e(batchEnv) {}
     __device__ PSC_INLINE void keep(Env&) const {}
+};
+// The block's copies, kSharedEnvStride bytes apart; the launch sizes it
+// (Batch::runShared, templates/host_cuda.h).
+extern __shared__ unsigned long long psc_shared_envs[];
+template <>
+struct SteppedEnv<EnvHome::kShared> {
+    Env& e;
+    __device__ PSC_INLINE explicit SteppedEnv(const Env& batchEnv)
+        : e(*reinterpret_cast<Env*>(psc_shared_envs + threadIdx.x * (kSharedEnvStride / 8))) {
+        e = batchEnv;
+    }
+    __device__ PSC_INLINE void keep(Env& batchEnv) const { batchEnv = e; }
 };
 
 __device__ PSC_INLINE UndoStack undoOf(const DeviceBatch& b, int i) {

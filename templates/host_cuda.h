@@ -27,6 +27,7 @@ constexpr int kJitInputPtx = 1;  // CU_JIT_INPUT_PTX
 struct Driver {
     CUresult (*cuInit)(unsigned);
     CUresult (*cuDeviceGet)(CUdevice*, int);
+    CUresult (*cuDeviceGetAttribute)(int*, int, CUdevice);
     CUresult (*cuDevicePrimaryCtxRetain)(CUcontext*, CUdevice);
     CUresult (*cuDevicePrimaryCtxRelease)(CUdevice);
     CUresult (*cuCtxSetCurrent)(CUcontext);
@@ -39,6 +40,7 @@ struct Driver {
     CUresult (*cuLinkComplete)(CUlinkState, void**, size_t*);
     CUresult (*cuLinkDestroy)(CUlinkState);
     CUresult (*cuModuleGetFunction)(CUfunction*, CUmodule, const char*);
+    CUresult (*cuFuncSetAttribute)(CUfunction, int, int);
     CUresult (*cuMemAlloc)(CUdeviceptr*, size_t);
     CUresult (*cuMemFree)(CUdeviceptr);
     CUresult (*cuMemcpyHtoD)(CUdeviceptr, const void*, size_t);
@@ -68,6 +70,7 @@ Driver& driver() {
         };
         load(d.cuInit, "cuInit");
         load(d.cuDeviceGet, "cuDeviceGet");
+        load(d.cuDeviceGetAttribute, "cuDeviceGetAttribute");
         load(d.cuDevicePrimaryCtxRetain, "cuDevicePrimaryCtxRetain");
         load(d.cuDevicePrimaryCtxRelease, "cuDevicePrimaryCtxRelease_v2");
         load(d.cuCtxSetCurrent, "cuCtxSetCurrent");
@@ -80,6 +83,7 @@ Driver& driver() {
         load(d.cuLinkComplete, "cuLinkComplete");
         load(d.cuLinkDestroy, "cuLinkDestroy");
         load(d.cuModuleGetFunction, "cuModuleGetFunction");
+        load(d.cuFuncSetAttribute, "cuFuncSetAttribute");
         load(d.cuMemAlloc, "cuMemAlloc_v2");
         load(d.cuMemFree, "cuMemFree_v2");
         load(d.cuMemcpyHtoD, "cuMemcpyHtoD_v2");
@@ -146,6 +150,8 @@ struct Batch {
     int autoReset = 0;
     int maxEpisodeSteps = 0;
     unsigned long long rolloutSteps = 0;  // steps run by rollouts so far (the random actions' counter)
+    unsigned runBlock = 128;              // the stepping kernel's threads a block
+    unsigned runShared = 0;               // and dynamic shared memory a block (PSC_STATE_IN_SHARED)
 
     ~Batch() {
         Driver& d = driver();
@@ -162,11 +168,31 @@ struct Batch {
         *out = reinterpret_cast<T*>(p);
         return check(driver().cuMemsetD8(p, 0, std::max<size_t>(1, count * sizeof(T))), "clearing device memory");
     }
-    int launch(CUfunction f, int threads, void** args) {
-        const unsigned block = 128;
+    int launch(CUfunction f, int threads, void** args, unsigned block = 128, unsigned sharedBytes = 0) {
         const unsigned grid = static_cast<unsigned>((threads + block - 1) / block);
         if (grid == 0) return PSC_OK;
-        return check(driver().cuLaunchKernel(f, grid, 1, 1, block, 1, 1, 0, stream, args, nullptr), "launching a kernel");
+        return check(driver().cuLaunchKernel(f, grid, 1, 1, block, 1, 1, sharedBytes, stream, args, nullptr),
+                     "launching a kernel");
+    }
+    // With PSC_STATE_IN_SHARED: as many warps a block (four at most) as the
+    // shared memory a block may have holds environments.
+    int fitSharedEnvs() {
+        constexpr int kMaxSharedPerBlockOptin = 97;  // CU_DEVICE_ATTRIBUTE_MAX_SHARED_MEMORY_PER_BLOCK_OPTIN
+        constexpr int kMaxDynamicShared = 8;         // CU_FUNC_ATTRIBUTE_MAX_DYNAMIC_SHARED_SIZE_BYTES
+        int limit = 0;
+        if (int s = check(driver().cuDeviceGetAttribute(&limit, kMaxSharedPerBlockOptin, device), "reading the shared memory size")) {
+            return s;
+        }
+        const unsigned warps = std::min(4u, static_cast<unsigned>(limit) / (32 * kSharedEnvStride));
+        if (warps == 0) {
+            return fail(PSC_ERROR_DEVICE, "a warp's environments need " + std::to_string(32 * kSharedEnvStride) +
+                                              " bytes of shared memory, over the " + std::to_string(limit) +
+                                              " a block may have: build with --gpu-state memory");
+        }
+        runBlock = 32 * warps;
+        runShared = runBlock * kSharedEnvStride;
+        return check(driver().cuFuncSetAttribute(run, kMaxDynamicShared, static_cast<int>(runShared)),
+                     "reserving shared memory for the environments");
     }
     int sync() { return check(driver().cuStreamSynchronize(stream), "waiting for the device"); }
 };

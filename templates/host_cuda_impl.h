@@ -54,6 +54,9 @@ static int psc_cuda_batch_create(const psc_batch_options* options, psc_batch** o
     for (const Named& k : kernels) {
         if (int s = check(d.cuModuleGetFunction(k.f, cb->module, k.name), k.name)) return cleanup(s);
     }
+    if (PSC_STATE_IN_SHARED) {
+        if (int s = cb->fitSharedEnvs()) return cleanup(s);
+    }
     const int n = options->num_envs;
     DeviceBatch& b = cb->dev;
     b.numEnvs = n;
@@ -215,7 +218,7 @@ int run(psc_batch* b, int32_t steps, const int32_t* actions, uint64_t seed, floa
     int actionCount = (kGameInfo.flags & PSC_FLAG_NOACTION) ? 4 : 5;
     unsigned long long first = cb->rolloutSteps;
     void* args[] = {&cb->dev, &steps, &actions, &seed, &actionCount, &first, &rewards, &terminated, &truncated, &won, &observe};
-    if (int s = cb->launch(cb->run, b->numEnvs, args)) return s;
+    if (int s = cb->launch(cb->run, b->numEnvs, args, cb->runBlock, cb->runShared)) return s;
     if (!actions) cb->rolloutSteps += static_cast<unsigned long long>(steps);
     return PSC_OK;
 }

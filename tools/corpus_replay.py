@@ -3,8 +3,9 @@
 
     tools/corpus_replay.py [--psc build/cli/psc] [--corpus ../shared/corpus]
                            [--suite testsuite|scraped|all] [--jobs N] [--sample N]
-                           [--backend cpu|cuda] [--fast-compile LEVEL] [--dumps DIR] [--json report.json]
-                           [--min PERCENT] [--ids-file FILE] [--timeout S] [--list] [IDS...]
+                           [--backend cpu|cuda] [--fast-compile LEVEL] [--gpu-state STATE]
+                           [--dumps DIR] [--json report.json]
+                           [--min PERCENT] [--ids-file FILE] [--timeout S] [--verbose] [--list] [IDS...]
 
 Each case is replayed in its own process (a crash or hang in one case cannot
 hide the others).  Prints one line per failing case and a summary; exits 1 if
@@ -59,8 +60,9 @@ def replay(psc, corpus, entry, extra, dumps, timeout):
         r = subprocess.run([psc, "replay", path] + extra + (["--dump", dump] if dump else []),
                            capture_output=True, text=True, timeout=timeout)
         code, out = r.returncode, (r.stdout + r.stderr)
-    except subprocess.TimeoutExpired:
-        code, out = 3, f"timed out after {timeout} s"
+    except subprocess.TimeoutExpired as e:
+        partial = "".join(x.decode(errors="replace") if isinstance(x, bytes) else x for x in (e.stdout, e.stderr) if x)
+        code, out = 3, partial + f"\ntimed out after {timeout} s"
     return entry, code, out, time.time() - start, file_sha1(dump) if dump else None
 
 
@@ -81,9 +83,11 @@ def main():
     ap.add_argument("--min", type=float, default=0.0)
     ap.add_argument("--backend", default="cpu")
     ap.add_argument("--fast-compile", default="", help="psc replay's --fast-compile (CUDA)")
+    ap.add_argument("--gpu-state", default="", help="psc replay's --gpu-state (CUDA)")
     ap.add_argument("--dumps", default="", help="write every case's states to this folder")
     ap.add_argument("--ids-file", default="", help="replay the case ids listed in this file (one a line)")
     ap.add_argument("--timeout", type=float, default=300, help="seconds a case may take, compile included")
+    ap.add_argument("--verbose", action="store_true", help="psc replay's --verbose: compile options and where the time goes")
     ap.add_argument("--list", action="store_true", help="print the chosen cases' paths instead of replaying them")
     ap.add_argument("ids", nargs="*")
     a = ap.parse_args()
@@ -103,7 +107,8 @@ def main():
     if a.list:
         print("\n".join(os.path.join(a.corpus, e["path"]) for e in cases))
         return
-    extra = ["--backend", a.backend] + (["--fast-compile", a.fast_compile] if a.fast_compile else [])
+    extra = ["--backend", a.backend] + (["--fast-compile", a.fast_compile] if a.fast_compile else []) + \
+        (["--gpu-state", a.gpu_state] if a.gpu_state else []) + (["--verbose"] if a.verbose else [])
     if a.dumps:
         os.makedirs(a.dumps, exist_ok=True)
     results = []
@@ -115,7 +120,7 @@ def main():
         results.append({"id": entry["id"], "status": {0: "pass", 1: "mismatch", 2: "error", 3: "timeout"}.get(code, f"crash({code})"),
                         "output": out.strip()[-2000:], "seconds": round(seconds, 2), "dump_sha1": sha1})
         if code != 0:
-            first = [line for line in out.strip().splitlines() if "warning:" not in line][:3]
+            first = [line for line in out.strip().splitlines() if "warning:" not in line and not line.startswith("psc: ")][:3]
             print(f"FAIL {entry['id']}: " + " | ".join(first)[:300], flush=True)
         if a.json and time.time() - reported > 5:
             write_report(a, results)  # partial results survive a run cut short

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The GPU checks, run on the device machine from the repository root with
 # device/ carried (tools/device_bundle.sh makes it).  Stages, in the order given:
-#   compile   NVRTC time and ptxas resource report of each benchmark game, per
+#   compile   NVRTC time (min and median of COMPILE_REPEATS) and ptxas resource report of each benchmark game, per
 #             GPU state layout in LAYOUTS (default auto)
 #   prebuild  the benchmark games' CUDA plugins built in parallel (bench then finds them cached)
 #   bench     psc bench --backend cuda, batch sweep, for each benchmark game
@@ -13,9 +13,10 @@
 #   python    the Python package on the GPU: zero-copy views, CUDA tests, PPO
 #             (plugins prebuilt here into out/python-gpu, carried)
 # FAST_COMPILE sets psc's --fast-compile (compile, prebuild, bench, replay, sanitize);
-# GPU_STATE its --gpu-state (prebuild, bench); GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
+# GPU_STATE its --gpu-state (prebuild, bench, replay); GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
 # REPLAY_IDS (a file of case ids) limits it to some cases, REPLAY_SUITES to some suites,
-# REPLAY_JOBS sets how many run at once and REPLAY_CASE_SECONDS how long each may take;
+# REPLAY_JOBS sets how many run at once and REPLAY_CASE_SECONDS how long each may take,
+# REPLAY_VERBOSE=1 keeps each case's compile, batch and stepping times in the report;
 # SANITIZE_EVERY picks every Nth carried case for the sanitizer, SANITIZE_IDS (a file of
 # case ids) names them instead, SANITIZE_JOBS sets how many run at once.
 # Results go to $OUT (default out/gpu).   tools/gpu_check.sh compile bench
@@ -42,18 +43,23 @@ for stage in "$@"; do
     echo "== $stage"
     case $stage in
     compile)
-        # One fresh NVRTC compile per game and layout (empty cache), its log
-        # kept: the compile time, the compile units, and the stepping kernel's
-        # registers, stack and spills.
+        # Fresh NVRTC compiles per game and layout (empty cache), COMPILE_REPEATS
+        # of them (default 3; the first call also loads NVRTC from disk), the
+        # last log kept: min and median compile time, the compile units, and
+        # the stepping kernel's registers, stack and spills.
         mkdir -p "$out/compile"
         for layout in ${LAYOUTS:-auto}; do
             for game in bench/games/*.txt; do
                 name=$(basename "$game" .txt)
                 log="$out/compile/$name.$layout.log"
-                XDG_CACHE_HOME=$(mktemp -d) "$psc" "$game" --emit ptx --levels 0 --gpu-state "$layout" --verbose "${fast[@]}" \
-                    2>"$log" >/dev/null
-                printf '%-16s %-9s %8s s  %-8s %s\n' "$name" "$layout" \
-                    "$(sed -n 's/.*CUDA compile (nvrtc[^)]*) \([0-9.]*\) s.*/\1/p' "$log")" \
+                times=()
+                for _ in $(seq "${COMPILE_REPEATS:-3}"); do
+                    XDG_CACHE_HOME=$(mktemp -d) "$psc" "$game" --emit ptx --levels 0 --gpu-state "$layout" --verbose "${fast[@]}" \
+                        2>"$log" >/dev/null
+                    times+=("$(sed -n 's/.*CUDA compile (nvrtc[^)]*) \([0-9.]*\) s.*/\1/p' "$log")")
+                done
+                printf '%-16s %-9s min %6s s  median %6s s  %-8s %s\n' "$name" "$layout" \
+                    $(printf '%s\n' "${times[@]}" | sort -g | awk '{t[NR] = $1} END {print t[1], t[int((NR + 1) / 2)]}') \
                     "$(sed -n 's/.*CUDA compile (nvrtc, \([0-9]*\) units).*/\1 units/p' "$log")" \
                     "$(grep -A3 "entry function 'psc_run_kernel'" "$log" | grep -E 'stack frame|Used' | sed 's/.*ptxas[ a-z]*: *\.* *//' | tr '\n' ' ')"
             done
@@ -76,8 +82,9 @@ for stage in "$@"; do
         ;;
     replay)
         for suite in ${REPLAY_SUITES:-testsuite scraped}; do
-            timeout "${REPLAY_SECONDS:-3000}" $python tools/corpus_replay.py --psc "$psc" --corpus $corpus --suite $suite --backend cuda "${fast[@]}" \
-                --jobs "${REPLAY_JOBS:-$jobs}" --timeout "${REPLAY_CASE_SECONDS:-300}" --dumps /tmp/psc-dumps/$suite --json "$out/${suite}_cuda.json" ${REPLAY_IDS:+--ids-file "$REPLAY_IDS"} | tail -5
+            timeout "${REPLAY_SECONDS:-3000}" $python tools/corpus_replay.py --psc "$psc" --corpus $corpus --suite $suite --backend cuda "${fast[@]}" "${state[@]}" \
+                --jobs "${REPLAY_JOBS:-$jobs}" --timeout "${REPLAY_CASE_SECONDS:-300}" --dumps /tmp/psc-dumps/$suite --json "$out/${suite}_cuda.json" ${REPLAY_IDS:+--ids-file "$REPLAY_IDS"} \
+                ${REPLAY_VERBOSE:+--verbose} | tail -5
         done
         ;;
     sanitize)
