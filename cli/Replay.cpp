@@ -108,12 +108,12 @@ int runReplay(const ReplayOptions& options) {
         const std::string seed = c.at("level_seed").get<std::string>();
         batch.check(plugin->resetEntry(batch.get(), 0, c.at("start_level").get<int>(), seed.c_str()), "starting the level");
         if (options.build.build.verbose) fmt::print(stderr, "psc: batch created and level started in {:.2f} s\n", secondsSince(created));
-        double stepSeconds = 0, compareSeconds = 0;
+        double stepSeconds = 0, readSeconds = 0;
         auto lastProgress = Clock::now();
         auto compare = [&](const json& expected, const std::string& label) {
             const auto start = Clock::now();
             const json actual = json::parse(batch.dump(0));
-            compareSeconds += secondsSince(start);
+            readSeconds += secondsSince(start);
             if (dump) dump << actual.dump() << "\n";
             if (comparable(expected) == actual) return true;
             fmt::print("MISMATCH {} {}\n", c.value("id", options.casePath), label);
@@ -141,7 +141,7 @@ int runReplay(const ReplayOptions& options) {
         }
         if (options.build.build.verbose) {
             fmt::print(stderr, "psc: {} inputs stepped in {:.2f} s, states read back in {:.2f} s\n", inputs.size(),
-                       stepSeconds, compareSeconds);
+                       stepSeconds, readSeconds);
         }
     } catch (const std::exception& e) {
         fmt::print(stderr, "{}: error: {}\n", options.casePath, e.what());

@@ -131,8 +131,9 @@ int main(int argc, char** argv) {
     const auto fastCompileLevels = CLI::IsMember({"0", "min", "mid", "max"});
     const char* fastCompileHelp = "CUDA -Ofast-compile level: 0 (full optimisation), min, mid, max";
     app.add_option("--fast-compile", fastCompile, fastCompileHelp)->check(fastCompileLevels);
-    app.add_option("--gpu-state", gpuState, "where the GPU keeps each environment's state")
-        ->check(CLI::IsMember({"auto", "registers", "memory", "shared"}));
+    const auto gpuStates = CLI::IsMember({"auto", "registers", "memory", "shared"});
+    const char* gpuStateHelp = "where the GPU keeps each environment's state";
+    app.add_option("--gpu-state", gpuState, gpuStateHelp)->check(gpuStates);
     int cudaUnits = 0;
     const char* cudaUnitsHelp = "CUDA compile units NVRTC compiles at once (memory layout); 0: by code size";
     app.add_option("--cuda-units", cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
@@ -155,8 +156,7 @@ int main(int argc, char** argv) {
     replay->add_option("case", replayOptions.casePath, "the case file (JSON)")->required();
     replay->add_option("--backend", replayOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
     replay->add_option("--fast-compile", replayOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
-    replay->add_option("--gpu-state", replayOptions.build.gpuState, "where the GPU keeps each environment's state")
-        ->check(CLI::IsMember({"auto", "registers", "memory", "shared"}));
+    replay->add_option("--gpu-state", replayOptions.build.gpuState, gpuStateHelp)->check(gpuStates);
     replay->add_option("--cuda-units", replayOptions.build.cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     replay->add_option("--dump", replayOptions.dumpPath, "write every state as a JSON line to this file");
     replay->add_flag("--verbose", replayOptions.build.build.verbose, "print the compiler command and cache use");
@@ -172,8 +172,7 @@ int main(int argc, char** argv) {
     bench->add_option("--warmup", benchOptions.warmup, "untimed runs first");
     bench->add_option("--backend", benchOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
     bench->add_option("--fast-compile", benchOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
-    bench->add_option("--gpu-state", benchOptions.build.gpuState, "where the GPU keeps each environment's state")
-        ->check(CLI::IsMember({"auto", "registers", "memory", "shared"}));
+    bench->add_option("--gpu-state", benchOptions.build.gpuState, gpuStateHelp)->check(gpuStates);
     bench->add_option("--cuda-units", benchOptions.build.cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     bench->add_flag("--native", benchOptions.build.build.native, "compile for this machine (-march=native)");
     bench->add_flag("--all-levels", benchOptions.allLevels, "build the plugin for every level, not only the one measured");

@@ -150,8 +150,9 @@ struct Batch {
     int autoReset = 0;
     int maxEpisodeSteps = 0;
     unsigned long long rolloutSteps = 0;  // steps run by rollouts so far (the random actions' counter)
-    unsigned runBlock = 128;              // the stepping kernel's threads a block
-    unsigned runShared = 0;               // and dynamic shared memory a block (PSC_STATE_IN_SHARED)
+    static constexpr unsigned kBlock = 128;  // threads a block of every kernel but a shared-memory stepping one
+    unsigned runBlock = kBlock;              // the stepping kernel's threads a block
+    unsigned runShared = 0;                  // and dynamic shared memory a block (PSC_STATE_IN_SHARED)
 
     ~Batch() {
         Driver& d = driver();
@@ -168,7 +169,7 @@ struct Batch {
         *out = reinterpret_cast<T*>(p);
         return check(driver().cuMemsetD8(p, 0, std::max<size_t>(1, count * sizeof(T))), "clearing device memory");
     }
-    int launch(CUfunction f, int threads, void** args, unsigned block = 128, unsigned sharedBytes = 0) {
+    int launch(CUfunction f, int threads, void** args, unsigned block = kBlock, unsigned sharedBytes = 0) {
         const unsigned grid = static_cast<unsigned>((threads + block - 1) / block);
         if (grid == 0) return PSC_OK;
         return check(driver().cuLaunchKernel(f, grid, 1, 1, block, 1, 1, sharedBytes, stream, args, nullptr),
