@@ -56,6 +56,19 @@ bool usesRandom(const Game& g) {
     return false;
 }
 
+bool hasCheckpoint(const Game& g) {
+    for (const auto* groups : {&g.rules, &g.lateRules}) {
+        for (const auto& group : *groups) {
+            for (const auto& rule : group.rules) {
+                for (const auto& c : rule.commands) {
+                    if (c.name == "checkpoint") return true;
+                }
+            }
+        }
+    }
+    return false;
+}
+
 bool lateRandomDirections(const Game& g) {
     for (const auto& group : g.lateRules) {
         for (const auto& rule : group.rules) {
@@ -150,6 +163,7 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
     out.line(fmt::format("constexpr bool kRequirePlayerMovement = {};", g.hasMetadata("require_player_movement")));
     out.line(fmt::format("constexpr bool kMovementsCanLinger = {};  // late rules set random directions",
                          lateRandomDirections(g)));
+    out.line(fmt::format("constexpr bool kHasCheckpoint = {};  // a rule can move the restart target", hasCheckpoint(g)));
     out.close("  // namespace psc_game");
     out.line();
 }
@@ -463,8 +477,9 @@ void emitHostInfo(CodeWriter& out, const Game& g, const SourceOptions& o) {
     out.line("    kLevelCount, kLevelEntries, kLevelBuilt, kLevelWidths, kLevelHeights, kMaxWidth, kMaxHeight,");
     out.line(fmt::format("    {}, kHostEntryIsMessage, kEntryMessages,", g.levels.size()));
     out.line(fmt::format("    PSC_ACTION_COUNT, {},", realtime));
-    out.line(fmt::format("    kObjectSprites, kObjectColors, {}, {}", themeColor("background_color", "#000000"),
+    out.line(fmt::format("    kObjectSprites, kObjectColors, {}, {},", themeColor("background_color", "#000000"),
                          themeColor("text_color", "#ffffff")));
+    out.line("    static_cast<uint32_t>(sizeof(u64) * kKeyWords),");
     out.line("};");
     out.close("  // namespace psc_game");
     out.line();
@@ -540,6 +555,8 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     out.raw(templates::movement());
     out.line();
     out.raw(templates::engine());
+    out.line();
+    out.raw(templates::stateKey());
     return out.text();
 }
 

@@ -1,4 +1,4 @@
-/* psc plugin ABI, version 1.
+/* psc plugin ABI, version 2.
  *
  * Every plugin psc builds (`psc game.txt -o game.so`) exports these C
  * functions.  A plugin simulates one PuzzleScript game for a batch of
@@ -28,7 +28,7 @@
 extern "C" {
 #endif
 
-#define PSC_ABI_VERSION 1
+#define PSC_ABI_VERSION 2
 
 /* Plugins are built with hidden symbols; these are the exported ones. */
 #if defined(__GNUC__)
@@ -125,6 +125,8 @@ typedef struct psc_game_info {
     const uint32_t* object_colors;
     uint32_t background_color;
     uint32_t text_color;
+
+    uint32_t state_key_bytes;          /* size of a state key (psc_encode_states), a multiple of 8 */
 } psc_game_info;
 
 typedef struct psc_batch psc_batch;
@@ -227,6 +229,49 @@ PSC_API int psc_load_state(psc_batch* batch, int32_t env, const void* buffer, si
  * size (with the terminating NUL); the call fails with
  * PSC_ERROR_BUFFER_TOO_SMALL when size is smaller. */
 PSC_API int psc_dump_state(const psc_batch* batch, int32_t env, char* buffer, size_t size, size_t* needed);
+
+/* ---- State keys and batched expansion, for search ----------------------
+ * A state key is game_info.state_key_bytes bytes (8-byte aligned) holding
+ * everything that decides an environment's future between two inputs: two
+ * environments with equal keys behave identically under every sequence of
+ * inputs, their undo histories aside.  It holds the entry shown and its
+ * screen flags, the level's objects, and only where the game needs them the
+ * restart target (games with `checkpoint`), lingering movements (late
+ * `randomdir`) and the random stream's state (games that use random).
+ * The level's size, the seed and the batch's settings come from a template
+ * environment, which must show the key's entry.  docs/search.md says more. */
+
+/* Keys (and their 64-bit hashes, if hashes is not NULL) of environments
+ * env_ids[0..count), in host memory on either backend. */
+PSC_API int psc_encode_states(const psc_batch* batch, const int32_t* env_ids, int32_t count, void* keys,
+                              uint64_t* hashes);
+/* Puts environment env in the state of `key` (host memory); its undo history
+ * is cleared.  The environment must show the key's entry. */
+PSC_API int psc_decode_state(psc_batch* batch, int32_t env, const void* key);
+
+/* psc_expand's per-child flags. */
+enum {
+    PSC_EXPAND_WON = 1u << 0,       /* the input won the level (the child stays on it) */
+    PSC_EXPAND_UNCHANGED = 1u << 1, /* the child's key equals its parent's */
+    PSC_EXPAND_CUT_OFF = 1u << 2,   /* an endless `again` chain was cut off */
+    PSC_EXPAND_INVALID = 1u << 3    /* not expanded: a bad action, or a key of another entry than the template's */
+};
+/* The children of `count` keys under `action_count` inputs each: child
+ * i * action_count + a is key i after input actions[a] (psc_action; undo has
+ * no history to go back to), decoded over environment template_env, whose
+ * state is left as it was.  Writes the children's keys, flags (PSC_EXPAND_*)
+ * and, if hashes is not NULL, their hashes.  Pointers are host memory for
+ * CPU batches; for CUDA batches device memory (psc_device_alloc), with the
+ * work queued on the batch's stream (psc_synchronize waits for it). */
+PSC_API int psc_expand(psc_batch* batch, int32_t template_env, const void* keys, int32_t count, const int32_t* actions,
+                       int32_t action_count, void* children, uint8_t* flags, uint64_t* hashes);
+
+/* Memory psc_expand can use on the batch's backend (device memory for CUDA
+ * batches, host memory for CPU ones), and copies between any two pointers
+ * (host or device; a copy waits for the batch's queued work first). */
+PSC_API int psc_device_alloc(psc_batch* batch, size_t bytes, void** pointer);
+PSC_API int psc_device_free(psc_batch* batch, void* pointer);
+PSC_API int psc_copy(psc_batch* batch, void* destination, const void* source, size_t bytes);
 
 #ifdef __cplusplus
 }

@@ -152,3 +152,27 @@ extern "C" __global__ void psc_observe_kernel(psc_game::DeviceBatch b) {
     const unsigned long long bytes = static_cast<unsigned long long>(b.channels) * b.maxWidth * b.maxHeight;
     observeEnvironment(b.envs[i], b.channelObjects, b.channels, b.maxWidth, b.maxHeight, b.observations + bytes * i);
 }
+
+// Child k = i * actionCount + a of psc_expand: key i after input actions[a],
+// decoded over a copy of the template environment (templates/state_key.h).
+extern "C" __global__ void psc_expand_kernel(psc_game::DeviceBatch b, int templateEnv, const unsigned long long* keys,
+                                             int count, const int* actions, int actionCount, unsigned long long* children,
+                                             unsigned char* flags, unsigned long long* hashes) {
+    using namespace psc_game;
+    const long long k = static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (k >= static_cast<long long>(count) * actionCount) return;
+    const u64* parent = keys + static_cast<unsigned long long>(k / actionCount) * kKeyWords;
+    u64* child = children + static_cast<unsigned long long>(k) * kKeyWords;
+    const int action = actions[k % actionCount];
+    if constexpr (kExpandTooLarge) {
+        flags[k] = kExpandInvalid;  // refused on the host
+    } else {
+        Env e = b.envs[templateEnv];
+        if (action < 0 || action >= kInputCount || keyEntry(parent) != e.entry) {
+            flags[k] = kExpandInvalid;
+            return;
+        }
+        flags[k] = expandKey(e, parent, action, child);
+        if (hashes) hashes[k] = hashKey(child);
+    }
+}

@@ -596,4 +596,112 @@ int psc_dump_state(const psc_batch* batch, int32_t env, char* buffer, size_t siz
     return PSC_OK;
 }
 
+int psc_encode_states(const psc_batch* batch, const int32_t* env_ids, int32_t count, void* keys, uint64_t* hashes) {
+    using namespace psc_game;
+    if (int s = checkBatch(batch)) return s;
+    if (!env_ids || !keys) return fail(PSC_ERROR_NULL_POINTER, "env_ids and keys must not be NULL");
+    if (count < 0) return fail(PSC_ERROR_BAD_ARGUMENT, "count must not be negative");
+    u64* out = static_cast<u64*>(keys);
+    for (int32_t i = 0; i < count; ++i) {
+        if (int s = checkEnv(batch, env_ids[i])) return s;
+        Env fetched;
+        if (psc_cuda_owns(batch)) {
+            if (int s = psc_cuda_fetch_env(batch, env_ids[i], &fetched)) return s;
+        }
+        const Env& e = psc_cuda_owns(batch) ? fetched : batch->envs[env_ids[i]];
+        u64* key = out + static_cast<size_t>(i) * kKeyWords;
+        encodeKey(e, key);
+        if (hashes) hashes[i] = hashKey(key);
+    }
+    return PSC_OK;
+}
+
+int psc_decode_state(psc_batch* batch, int32_t env, const void* key) {
+    using namespace psc_game;
+    if (int s = checkEnv(batch, env)) return s;
+    if (!key) return fail(PSC_ERROR_NULL_POINTER, "key is NULL");
+    const u64* k = static_cast<const u64*>(key);
+    Env e;
+    if (psc_cuda_owns(batch)) {
+        if (int s = psc_cuda_fetch_env(batch, env, &e)) return s;
+    } else {
+        e = batch->envs[env];
+    }
+    if (keyEntry(k) != e.entry) {
+        return fail(PSC_ERROR_BAD_STATE, "the key shows entry " + std::to_string(keyEntry(k)) + ", the environment entry " +
+                                             std::to_string(e.entry));
+    }
+    decodeKey(e, k);
+    if (psc_cuda_owns(batch)) return psc_cuda_write_state(batch, env, e, {});
+    batch->envs[env] = e;
+    clearUndo(batch->undo[env]);
+    return PSC_OK;
+}
+
+int psc_expand(psc_batch* batch, int32_t template_env, const void* keys, int32_t count, const int32_t* actions,
+               int32_t action_count, void* children, uint8_t* flags, uint64_t* hashes) {
+    using namespace psc_game;
+    if (int s = checkEnv(batch, template_env)) return s;
+    if (!keys || !actions || !children || !flags) return fail(PSC_ERROR_NULL_POINTER, "keys, actions, children and flags must not be NULL");
+    if (count < 0 || action_count <= 0) return fail(PSC_ERROR_BAD_ARGUMENT, "count must not be negative and action_count must be positive");
+    if (psc_cuda_owns(batch)) {
+        return psc_cuda_expand(batch, template_env, keys, count, actions, action_count, children, flags, hashes);
+    }
+    for (int32_t a = 0; a < action_count; ++a) {
+        if (actions[a] < 0 || actions[a] >= kInputCount) {
+            return fail(PSC_ERROR_BAD_ACTION, "action " + std::to_string(actions[a]) + " out of range [0, 8)");
+        }
+    }
+    const Env& base = batch->envs[template_env];
+    const u64* parents = static_cast<const u64*>(keys);
+    for (int32_t i = 0; i < count; ++i) {
+        if (keyEntry(parents + static_cast<size_t>(i) * kKeyWords) != base.entry) {
+            return fail(PSC_ERROR_BAD_STATE, "key " + std::to_string(i) + " is not of the template environment's entry " +
+                                                 std::to_string(base.entry));
+        }
+    }
+    u64* out = static_cast<u64*>(children);
+    const int64_t pairs = static_cast<int64_t>(count) * action_count;
+    if (pairs > INT32_MAX) return fail(PSC_ERROR_BAD_ARGUMENT, "count * action_count must be below 2^31");
+    batch->pool->run(static_cast<int>(pairs), [&](int begin, int end) {
+        std::unique_ptr<Env> e(new Env);
+        for (int at = begin; at < end; ++at) {
+            *e = base;
+            u64* child = out + static_cast<size_t>(at) * kKeyWords;
+            flags[at] = expandKey(*e, parents + static_cast<size_t>(at / action_count) * kKeyWords, actions[at % action_count], child);
+            if (hashes) hashes[at] = hashKey(child);
+        }
+    });
+    return PSC_OK;
+}
+
+int psc_device_alloc(psc_batch* batch, size_t bytes, void** pointer) {
+    using namespace psc_game;
+    if (int s = checkBatch(batch)) return s;
+    if (!pointer) return fail(PSC_ERROR_NULL_POINTER, "pointer is NULL");
+    *pointer = nullptr;
+    if (psc_cuda_owns(batch)) return psc_cuda_alloc(batch, bytes, pointer);
+    *pointer = std::malloc(std::max<size_t>(bytes, 1));
+    return *pointer ? PSC_OK : fail(PSC_ERROR_OUT_OF_MEMORY, "cannot allocate " + std::to_string(bytes) + " bytes");
+}
+
+int psc_device_free(psc_batch* batch, void* pointer) {
+    using namespace psc_game;
+    if (int s = checkBatch(batch)) return s;
+    if (!pointer) return PSC_OK;
+    if (psc_cuda_owns(batch)) return psc_cuda_free(batch, pointer);
+    std::free(pointer);
+    return PSC_OK;
+}
+
+int psc_copy(psc_batch* batch, void* destination, const void* source, size_t bytes) {
+    using namespace psc_game;
+    if (int s = checkBatch(batch)) return s;
+    if ((!destination || !source) && bytes) return fail(PSC_ERROR_NULL_POINTER, "destination and source must not be NULL");
+    if (!bytes) return PSC_OK;
+    if (psc_cuda_owns(batch)) return psc_cuda_copy(batch, destination, source, bytes);
+    std::memmove(destination, source, bytes);
+    return PSC_OK;
+}
+
 }  // extern "C"

@@ -46,6 +46,7 @@ struct Driver {
     CUresult (*cuMemcpyHtoD)(CUdeviceptr, const void*, size_t);
     CUresult (*cuMemcpyDtoH)(void*, CUdeviceptr, size_t);
     CUresult (*cuMemsetD8)(CUdeviceptr, unsigned char, size_t);
+    CUresult (*cuMemcpy)(CUdeviceptr, CUdeviceptr, size_t);
     CUresult (*cuLaunchKernel)(CUfunction, unsigned, unsigned, unsigned, unsigned, unsigned, unsigned, unsigned,
                                CUstream, void**, void**);
     CUresult (*cuStreamSynchronize)(CUstream);
@@ -89,6 +90,7 @@ Driver& driver() {
         load(d.cuMemcpyHtoD, "cuMemcpyHtoD_v2");
         load(d.cuMemcpyDtoH, "cuMemcpyDtoH_v2");
         load(d.cuMemsetD8, "cuMemsetD8_v2");
+        load(d.cuMemcpy, "cuMemcpy");
         load(d.cuLaunchKernel, "cuLaunchKernel");
         load(d.cuStreamSynchronize, "cuStreamSynchronize");
         load(d.cuGetErrorString, "cuGetErrorString");
@@ -143,6 +145,7 @@ struct Batch {
     CUfunction reset = nullptr;
     CUfunction run = nullptr;
     CUfunction observe = nullptr;
+    CUfunction expand = nullptr;
     CUstream stream = nullptr;
     DeviceBatch dev{};
     std::vector<CUdeviceptr> allocations;
@@ -222,3 +225,8 @@ static int psc_cuda_rollout(psc_batch* b, int32_t steps, uint64_t seed, psc_roll
 static int psc_cuda_fetch_env(const psc_batch* b, int env, psc_game::Env* out);
 static int psc_cuda_read_state(const psc_batch* b, int env, psc_game::Env* out, std::vector<psc_game::Snapshot>& undo);
 static int psc_cuda_write_state(psc_batch* b, int env, const psc_game::Env& in, const std::vector<psc_game::Snapshot>& undo);
+static int psc_cuda_expand(psc_batch* b, int32_t templateEnv, const void* keys, int32_t count, const int32_t* actions,
+                           int32_t actionCount, void* children, uint8_t* flags, uint64_t* hashes);
+static int psc_cuda_alloc(psc_batch* b, size_t bytes, void** pointer);
+static int psc_cuda_free(psc_batch* b, void* pointer);
+static int psc_cuda_copy(psc_batch* b, void* destination, const void* source, size_t bytes);

@@ -50,7 +50,8 @@ static int psc_cuda_batch_create(const psc_batch_options* options, psc_batch** o
     struct Named {
         CUfunction* f;
         const char* name;
-    } kernels[] = {{&cb->reset, "psc_reset_kernel"}, {&cb->run, "psc_run_kernel"}, {&cb->observe, "psc_observe_kernel"}};
+    } kernels[] = {{&cb->reset, "psc_reset_kernel"}, {&cb->run, "psc_run_kernel"}, {&cb->observe, "psc_observe_kernel"},
+                       {&cb->expand, "psc_expand_kernel"}};
     for (const Named& k : kernels) {
         if (int s = check(d.cuModuleGetFunction(k.f, cb->module, k.name), k.name)) return cleanup(s);
     }
@@ -381,4 +382,45 @@ static int psc_cuda_write_state(psc_batch* b, int env, const psc_game::Env& in, 
     if (count && check(d.cuMemcpyHtoD(entries, undo.data(), sizeof(Snapshot) * undo.size()), "writing undo")) return PSC_ERROR_DEVICE;
     if (int s = check(d.cuMemcpyHtoD(reinterpret_cast<CUdeviceptr>(cb->dev.undoCount + env), &count, sizeof(int)), "writing undo")) return s;
     return check(d.cuMemcpyHtoD(reinterpret_cast<CUdeviceptr>(cb->dev.undoHead + env), &head, sizeof(int)), "writing undo");
+}
+
+static int psc_cuda_expand(psc_batch* b, int32_t templateEnv, const void* keys, int32_t count, const int32_t* actions,
+                           int32_t actionCount, void* children, uint8_t* flags, uint64_t* hashes) {
+    using namespace psc_game;
+    using namespace psc_game::cuda;
+    if (kExpandTooLarge) {
+        return fail(PSC_ERROR_DEVICE, "this game's environments (" + std::to_string(sizeof(Env)) +
+                                          " bytes) are too large to expand on the GPU: use the CPU backend");
+    }
+    const long long pairs = static_cast<long long>(count) * actionCount;
+    if (pairs > INT32_MAX) return fail(PSC_ERROR_BAD_ARGUMENT, "count * action_count must be below 2^31");
+    int n = static_cast<int>(pairs);
+    Batch* cb = of(b);
+    driver().cuCtxSetCurrent(cb->context);
+    void* args[] = {&cb->dev, &templateEnv, &keys, &count, &actions, &actionCount, &children, &flags, &hashes};
+    return cb->launch(cb->expand, n, args);
+}
+
+static int psc_cuda_alloc(psc_batch* b, size_t bytes, void** pointer) {
+    using namespace psc_game::cuda;
+    driver().cuCtxSetCurrent(of(b)->context);
+    CUdeviceptr p = 0;
+    if (int s = check(driver().cuMemAlloc(&p, std::max<size_t>(bytes, 1)), "allocating device memory")) return s;
+    *pointer = reinterpret_cast<void*>(p);
+    return PSC_OK;
+}
+
+static int psc_cuda_free(psc_batch* b, void* pointer) {
+    using namespace psc_game::cuda;
+    driver().cuCtxSetCurrent(of(b)->context);
+    return check(driver().cuMemFree(reinterpret_cast<CUdeviceptr>(pointer)), "freeing device memory");
+}
+
+static int psc_cuda_copy(psc_batch* b, void* destination, const void* source, size_t bytes) {
+    using namespace psc_game::cuda;
+    Batch* cb = of(b);
+    driver().cuCtxSetCurrent(cb->context);
+    if (int s = cb->sync()) return s;
+    return check(driver().cuMemcpy(reinterpret_cast<CUdeviceptr>(destination), reinterpret_cast<CUdeviceptr>(source), bytes),
+                 "copying memory");
 }

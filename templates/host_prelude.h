@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <condition_variable>
 #include <cstring>
+#include <cstdlib>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <new>
 #include <string>

@@ -147,3 +147,40 @@ class Batch:
             f"dumping environment {env}",
         )
         return json.loads(buffer.value.decode("utf-8"))
+
+    # ---- state keys and batched expansion (psc_plugin.h; docs/search.md)
+
+    def key_bytes(self) -> int:
+        return self.plugin.info.state_key_bytes
+
+    def encode_states(self, env_ids: Sequence[int]):
+        """(keys uint8 [n, key_bytes], hashes uint64 [n]) of environments env_ids."""
+        ids = _int32s(env_ids, len(env_ids), "env_ids")
+        keys = np.zeros((len(ids), self.key_bytes()), dtype=np.uint8)
+        hashes = np.zeros(len(ids), dtype=np.uint64)
+        status = self.lib.psc_encode_states(self.handle, ids.ctypes.data, len(ids), keys.ctypes.data, hashes.ctypes.data)
+        self.check(status, "encoding states")
+        return keys, hashes
+
+    def decode_state(self, env: int, key: np.ndarray) -> None:
+        key = np.ascontiguousarray(key, dtype=np.uint8)
+        if key.shape != (self.key_bytes(),):
+            raise ValueError(f"a state key has shape ({self.key_bytes()},), not {key.shape}")
+        self.check(self.lib.psc_decode_state(self.handle, env, key.ctypes.data), f"decoding a key into environment {env}")
+
+    def expand(self, template_env: int, keys: np.ndarray, actions: Sequence[int]):
+        """Children of host keys [n, key_bytes] under each action (CPU batches):
+        (children [n * len(actions), key_bytes], flags, hashes)."""
+        keys = np.ascontiguousarray(keys, dtype=np.uint8)
+        if keys.ndim != 2 or keys.shape[1] != self.key_bytes():
+            raise ValueError(f"keys must have shape (n, {self.key_bytes()}), not {keys.shape}")
+        action_array = _int32s(actions, len(actions), "actions")
+        n = keys.shape[0] * len(action_array)
+        children = np.zeros((n, self.key_bytes()), dtype=np.uint8)
+        flags = np.zeros(n, dtype=np.uint8)
+        hashes = np.zeros(n, dtype=np.uint64)
+        status = self.lib.psc_expand(
+            self.handle, template_env, keys.ctypes.data, keys.shape[0], action_array.ctypes.data, len(action_array),
+            children.ctypes.data, flags.ctypes.data, hashes.ctypes.data)
+        self.check(status, "expanding states")
+        return children, flags, hashes

@@ -47,6 +47,7 @@ class GameInfo:
     object_colors: np.ndarray  # uint32 (object_count, 10), 0xRRGGBB
     background_color: int
     text_color: int
+    state_key_bytes: int
 
     @property
     def level_count(self) -> int:
@@ -99,6 +100,7 @@ def _read_info(raw: _abi.GameInfo) -> GameInfo:
         object_colors=colors,
         background_color=raw.background_color,
         text_color=raw.text_color,
+        state_key_bytes=raw.state_key_bytes,
     )
 
 

@@ -1,0 +1,85 @@
+"""State keys and batched expansion (psc_encode_states, psc_decode_state,
+psc_expand): a key's children must be exactly what stepping the environment
+it came from gives, for every input, along random walks of every bundled game."""
+
+import numpy as np
+import pytest
+from helpers import GAMES
+
+import psc
+from psc import _abi
+from psc.batch import Batch
+
+EXPAND_WON, EXPAND_UNCHANGED, EXPAND_INVALID = 1, 2, 8
+INPUTS = [0, 1, 2, 3, 4, 5, 6]  # up, left, down, right, action, undo, restart
+
+
+def cpu_batch(plugin_path: str, num_envs: int) -> Batch:
+    # Undo off (a key has no history) and episodes that stop at a win, as expansion does.
+    return Batch(psc.Plugin(plugin_path), num_envs, _abi.BACKEND_CPU, 1, 0, 2, 0)
+
+
+@pytest.mark.parametrize("game", ["sokoban", "gems", "rigid", "ice"])
+def test_children_equal_stepping_every_input(game):
+    batch = cpu_batch(psc.compile(GAMES / f"{game}.txt"), 2)
+    rng = np.random.default_rng(7)
+    info = batch.plugin.info
+    checked = 0
+    for level in batch.plugin.playable_levels():
+        batch.reset([level, level], [11, 11])
+        for _ in range(40):
+            parent, parent_hash = batch.encode_states([0])
+            children, flags, hashes = batch.expand(0, parent, INPUTS)
+            saved = batch.save_state(0)
+            for a, action in enumerate(INPUTS):
+                batch.load_state(1, saved)
+                won = batch.step([0, action])[1]["won"]
+                stepped, stepped_hash = batch.encode_states([1])
+                assert np.array_equal(children[a], stepped[0]), f"{game} level {level} input {action}"
+                assert hashes[a] == stepped_hash[0]
+                assert bool(flags[a] & EXPAND_WON) == bool(won)
+                assert bool(flags[a] & EXPAND_UNCHANGED) == np.array_equal(children[a], parent[0])
+                checked += 1
+            step = batch.step([int(rng.integers(0, 5)), 0])[0]
+            if step["won"]:
+                break
+    assert checked > 0
+    assert info.state_key_bytes % 8 == 0
+
+
+def test_decode_gives_back_the_state_and_its_future():
+    batch = cpu_batch(psc.compile(GAMES / "gems.txt"), 2)  # random spawns: the stream is in the key
+    batch.reset([0, 0], [5, 5])
+    for action in [3, 3, 2, 1, 0, 3]:
+        batch.step([action, 0])
+    key, h = batch.encode_states([0])
+    batch.decode_state(1, key[0])
+    again, h2 = batch.encode_states([1])
+    assert np.array_equal(key, again) and h[0] == h2[0]
+    for action in [2, 2, 3, 1, 4]:
+        batch.step([action, action])
+        assert batch.dump_state(0) == batch.dump_state(1)
+
+
+def test_keys_of_different_states_differ_and_of_equal_states_agree():
+    batch = cpu_batch(psc.compile(GAMES / "sokoban.txt"), 3)
+    batch.reset([0, 0, 0], [1, 1, 1])
+    batch.step([1, 3, 1])  # left / right / left
+    keys, hashes = batch.encode_states([0, 1, 2])
+    assert not np.array_equal(keys[0], keys[1]) and hashes[0] != hashes[1]
+    assert np.array_equal(keys[0], keys[2]) and hashes[0] == hashes[2]
+
+
+def test_misuse_is_refused():
+    batch = cpu_batch(psc.compile(GAMES / "sokoban.txt"), 2)
+    batch.reset([0, 1], [1, 1])
+    key, _ = batch.encode_states([1])
+    with pytest.raises(psc.PscError, match="BAD_STATE"):
+        batch.expand(0, key, [0])  # a key of level 1 over a template on level 0
+    with pytest.raises(psc.PscError, match="BAD_STATE"):
+        batch.decode_state(0, key[0])
+    own, _ = batch.encode_states([0])
+    with pytest.raises(psc.PscError, match="BAD_ACTION"):
+        batch.expand(0, own, [8])
+    with pytest.raises(psc.PscError, match="BAD_ENV"):
+        batch.expand(2, own, [0])

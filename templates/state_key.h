@@ -1,0 +1,154 @@
+// ---- psc template: state keys ----------------------------------------------
+// A state key is everything that decides an environment's future between two
+// inputs, packed into kKeyWords 64-bit words, so that two environments with
+// equal keys behave identically under every sequence of inputs (undo aside:
+// the undo history is not in the key).  Search (search/) deduplicates on
+// keys, and expands them in batches: decode a key over a template
+// environment, apply one input, encode the child.
+//
+// What goes in, and why:
+//  - word 0: the entry shown and the screen flags (title screen, message
+//    shown, an `again` left pending by a cut-off chain, a level left out of
+//    the plugin reached);
+//  - the object boards: the level itself;
+//  - the restart target's objects, only if a rule can `checkpoint` (without
+//    one it is always the level's first state, which the template holds);
+//  - the movement boards, only if late rules can leave random movements
+//    behind a turn (kMovementsCanLinger; otherwise they are empty between inputs);
+//  - the RC4 stream's state, only for games that use random: the same board
+//    with another stream position draws other random choices.
+// Not in the key, taken from the template environment: the level's size, the
+// seed (used only by level loads, which search never reaches: a won child
+// stays on its level), the episode counters and the batch's settings.
+// Positions outside the level and guard rows are always zero, so the boards'
+// words are canonical as they are.
+
+namespace psc_game {
+
+constexpr int kKeyBoardWords = kObjects * kWords;
+constexpr int kKeyCheckpointWords = kHasCheckpoint ? kObjects * kWords : 0;
+constexpr int kKeyMovementWords = kMovementsCanLinger ? kLayers * 5 * kWords : 0;
+#if PSC_USES_RANDOM
+constexpr int kKeyRngWords = (256 + 2 + 7) / 8;
+#else
+constexpr int kKeyRngWords = 0;
+#endif
+constexpr int kKeyWords = 1 + kKeyBoardWords + kKeyCheckpointWords + kKeyMovementWords + kKeyRngWords;
+
+PSC_DEVICE PSC_INLINE u64 keyHeader(const Env& e) {
+    return static_cast<u64>(static_cast<u16>(e.entry)) | static_cast<u64>(e.titleScreen) << 16 |
+           static_cast<u64>(e.textMode) << 17 | static_cast<u64>(e.againing) << 18 | static_cast<u64>(e.unavailable) << 19;
+}
+
+// The entry a key's environment shows.
+PSC_DEVICE PSC_INLINE int keyEntry(const u64* key) { return static_cast<short>(key[0] & 0xFFFFu); }
+
+PSC_DEVICE inline void encodeKey(const Env& e, u64* key) {
+    int at = 0;
+    key[at++] = keyHeader(e);
+    PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) {
+        PSC_UNROLL for (int w = 0; w < kWords; ++w) key[at++] = e.obj[o].w[w];
+    }
+    if (kHasCheckpoint) {
+        PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) {
+            PSC_UNROLL for (int w = 0; w < kWords; ++w) key[at++] = e.restartTarget.obj[o].w[w];
+        }
+    }
+    if (kMovementsCanLinger) {
+        for (int m = 0; m < kLayers * 5; ++m) {
+            for (int w = 0; w < kWords; ++w) key[at++] = e.mov[m].w[w];
+        }
+    }
+#if PSC_USES_RANDOM
+    for (int k = 0; k < kKeyRngWords; ++k) {
+        u64 v = 0;
+        for (int b = 0; b < 8; ++b) {
+            const int byte = k * 8 + b;
+            const u64 x = byte < 256 ? e.rng.s[byte] : byte == 256 ? e.rng.i : byte == 257 ? e.rng.j : 0;
+            v |= x << (8 * b);
+        }
+        key[at++] = v;
+    }
+#endif
+}
+
+// Overwrites what the key holds; `e` must already be a copy of a template
+// environment on the key's entry (its size, seed and restart target).
+PSC_DEVICE inline void decodeKey(Env& e, const u64* key) {
+    int at = 0;
+    const u64 header = key[at++];
+    e.entry = static_cast<short>(header & 0xFFFFu);
+    e.titleScreen = static_cast<u8>((header >> 16) & 1u);
+    e.textMode = static_cast<u8>((header >> 17) & 1u);
+    e.againing = static_cast<u8>((header >> 18) & 1u);
+    e.unavailable = static_cast<u8>((header >> 19) & 1u);
+    e.queue = 0;
+    e.restarting = 0;
+    e.wins = 0;
+    PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) {
+        PSC_UNROLL for (int w = 0; w < kWords; ++w) e.obj[o].w[w] = key[at++];
+    }
+    if (kHasCheckpoint) {
+        for (int o = 0; o < kObjects; ++o) {
+            for (int w = 0; w < kWords; ++w) e.restartTarget.obj[o].w[w] = key[at++];
+        }
+    }
+    if (kMovementsCanLinger) {
+        for (int m = 0; m < kLayers * 5; ++m) {
+            for (int w = 0; w < kWords; ++w) e.mov[m].w[w] = key[at++];
+        }
+    } else {
+        for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
+    }
+#if PSC_USES_RANDOM
+    for (int k = 0; k < kKeyRngWords; ++k) {
+        const u64 v = key[at++];
+        for (int b = 0; b < 8; ++b) {
+            const int byte = k * 8 + b;
+            const u8 x = static_cast<u8>(v >> (8 * b));
+            if (byte < 256) e.rng.s[byte] = x;
+            else if (byte == 256) e.rng.i = x;
+            else if (byte == 257) e.rng.j = x;
+        }
+    }
+#endif
+}
+
+// A 64-bit hash of a key (each word mixed in, then a final avalanche).
+PSC_DEVICE PSC_INLINE u64 hashKey(const u64* key) {
+    u64 h = 0x243F6A8885A308D3ull ^ static_cast<u64>(kKeyWords);
+    PSC_UNROLL_STATE for (int k = 0; k < kKeyWords; ++k) {
+        h ^= key[k] * 0x9E3779B97F4A7C15ull;
+        h = (h << 31 | h >> 33) * 0xBF58476D1CE4E5B9ull;
+    }
+    h ^= h >> 30;
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 27;
+    h *= 0x94D049BB133111EBull;
+    h ^= h >> 31;
+    return h;
+}
+
+// What one expansion reports besides the child's key.
+enum ExpandFlag : u8 { kExpandWon = 1, kExpandUnchanged = 2, kExpandCutOff = 4, kExpandInvalid = 8 };
+
+// The GPU expands a key over a copy of the template on the thread's stack,
+// which the driver reserves for every resident thread: environments stepped
+// in the batch (templates/cuda_kernels.h) are too large for that.
+constexpr bool kExpandTooLarge = !PSC_STATE_IN_REGISTERS && sizeof(Env) > 128 * 1024;
+
+// The child of `parent` under `input`, decoded over the template `e` (which
+// this overwrites); the level stays as it is when the input wins it.
+PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child) {
+    decodeKey(e, parent);
+    e.stopOnWin = 1;
+    e.needsReset = 0;
+    UndoStack none = {nullptr, 0, 0, 0};
+    const bool settled = applyInput(e, none, input);
+    encodeKey(e, child);
+    bool same = true;
+    PSC_UNROLL_STATE for (int k = 0; k < kKeyWords; ++k) same = same && child[k] == parent[k];
+    return static_cast<u8>((e.wins > 0 ? kExpandWon : 0) | (same ? kExpandUnchanged : 0) | (settled ? 0 : kExpandCutOff));
+}
+
+}  // namespace psc_game
