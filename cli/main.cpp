@@ -15,6 +15,7 @@
 #include "Diagnose.h"
 #include "GameBuild.h"
 #include "Replay.h"
+#include "Solve.h"
 #include "SourceFile.h"
 #include "ast/AstDump.h"
 #include "ir/IrDump.h"
@@ -178,9 +179,40 @@ int main(int argc, char** argv) {
     bench->add_flag("--all-levels", benchOptions.allLevels, "build the plugin for every level, not only the one measured");
     bench->add_flag("--verbose", benchOptions.build.build.verbose, "print the compiler command and cache use");
 
-    CLI11_PARSE(app, argc, argv);
+    cli::SolveCommandOptions solveOptions;
+    CLI::App* solve = app.add_subcommand("solve", "find solutions of a game's levels by search (exit 0 when all are solved)");
+    solve->add_option("game", solveOptions.gamePath, "the game")->required();
+    solve->add_option("--level", solveOptions.levels, "playable levels, from 0 (a comma list); default 0")->delimiter(',');
+    solve->add_flag("--all-levels", solveOptions.allLevels, "every playable level");
+    solve->add_option("--algorithm", solveOptions.algorithm, "bfs (shortest), astar, wastar, greedy, portfolio")
+        ->check(CLI::IsMember({"bfs", "astar", "wastar", "greedy", "portfolio"}));
+    solve->add_option("--backend", solveOptions.backend, "where states are expanded: cpu or cuda")
+        ->check(CLI::IsMember({"cpu", "cuda"}));
+    solve->add_option("--threads", solveOptions.threads, "CPU threads expanding states")->check(CLI::PositiveNumber);
+    solve->add_option("--time-limit", solveOptions.timeLimit, "seconds per level")->check(CLI::PositiveNumber);
+    solve->add_option("--max-states", solveOptions.maxStates, "distinct states per level; 0: no limit but memory");
+    solve->add_option("--max-memory", solveOptions.maxMemoryMb, "MB for the states of one search; 0: half the machine's memory")
+        ->check(CLI::NonNegativeNumber);
+    solve->add_option("--weight", solveOptions.weight, "wastar's weight on the estimate (>= 1)");
+    solve->add_option("--seed", solveOptions.seed, "the level's random seed (games that use random)");
+    solve->add_option("--from-inputs", solveOptions.fromInputs, "inputs (u d l r x) played before searching");
+    solve->add_option("--format", solveOptions.format, "text, or json: one object per level and line")
+        ->check(CLI::IsMember({"text", "json"}));
+    solve->add_flag("--quiet", solveOptions.quiet, "no progress line");
+    solve->add_option("--fast-compile", solveOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
+    solve->add_option("--gpu-state", solveOptions.build.gpuState, gpuStateHelp)->check(gpuStates);
+    solve->add_flag("--verbose", solveOptions.build.build.verbose, "print the compiler command and cache use");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        // Bad arguments exit 2 (psc solve promises 0/1 for solved or not).
+        const int status = app.exit(e);
+        return status == 0 ? 0 : 2;
+    }
 
     if (*bench) return cli::runBench(benchOptions);
+    if (*solve) return cli::runSolve(solveOptions);
     if (*check) return runCheck(checkGame, checkCuda);
     if (*replay) return cli::runReplay(replayOptions);
     if (game.empty()) {

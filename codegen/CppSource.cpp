@@ -320,34 +320,44 @@ void emitPlayerAndWin(CodeWriter& out, const Game& g) {
     out.line("(void)k;");
     out.close();
     out.line();
-    out.open("PSC_DEVICE PSC_INLINE bool winConditionsHold(const Env& e)");
-    bool needNonEmpty = false;
-    for (const auto& w : g.winConditions) needNonEmpty = needNonEmpty || w.onEverything;
-    if (needNonEmpty) {
-        std::vector<std::string> all;
-        for (int id = 0; id < g.objectCount; ++id) all.push_back(fmt::format("e.obj[{}]", id));
-        out.line("const Board nonEmpty = " + (all.empty() ? std::string("Board::zero()") : "(" + [&] {
-                     std::string s;
-                     for (size_t i = 0; i < all.size(); ++i) s += (i ? " | " : "") + all[i];
-                     return s;
-                 }() + ")") + ";");
-    }
-    for (const auto& w : g.winConditions) {
-        const char* q = w.quantifier < 0 ? "no" : w.quantifier > 0 ? "all" : "some";
-        out.line(fmt::format("// line {}: {}", w.line, q));
-        out.open("");
-        out.line("const Board a = " + objectsExpr(w.objects, w.aggregate1, "e.inside", "Board::zero()") + ";");
-        out.line("const Board b = " + (w.onEverything ? std::string("nonEmpty")
-                                                       : objectsExpr(w.on, w.aggregate2, "e.inside", "Board::zero()")) + ";");
-        if (w.quantifier < 0) out.line("if ((a & b).any()) return false;");
-        else if (w.quantifier > 0) out.line("if (andNot(a, b).any()) return false;");
-        else out.line("if (!(a & b).any()) return false;");
+    // The win conditions twice: whether they all hold, and an estimate of the
+    // inputs still needed (search's heuristic, templates/state_key.h).
+    auto winFunction = [&](const std::string& signature, const std::string& start, auto check, const std::string& finish) {
+        out.open(signature);
+        if (!start.empty()) out.line(start);
+        bool needNonEmpty = false;
+        for (const auto& w : g.winConditions) needNonEmpty = needNonEmpty || w.onEverything;
+        if (needNonEmpty) {
+            std::string all;
+            for (int id = 0; id < g.objectCount; ++id) all += fmt::format("{}e.obj[{}]", id ? " | " : "", id);
+            out.line("const Board nonEmpty = " + (all.empty() ? std::string("Board::zero()") : "(" + all + ")") + ";");
+        }
+        for (const auto& w : g.winConditions) {
+            const char* q = w.quantifier < 0 ? "no" : w.quantifier > 0 ? "all" : "some";
+            out.line(fmt::format("// line {}: {}", w.line, q));
+            out.open("");
+            out.line("const Board a = " + objectsExpr(w.objects, w.aggregate1, "e.inside", "Board::zero()") + ";");
+            out.line("const Board b = " + (w.onEverything ? std::string("nonEmpty")
+                                                           : objectsExpr(w.on, w.aggregate2, "e.inside", "Board::zero()")) + ";");
+            out.line(check(w.quantifier));
+            out.close();
+        }
+        out.line("(void)e;");
+        out.line(finish);
         out.close();
-    }
-    out.line("(void)e;");
-    out.line("return true;");
-    out.close();
-    out.line();
+        out.line();
+    };
+    winFunction("PSC_DEVICE PSC_INLINE bool winConditionsHold(const Env& e)", "", [](int quantifier) {
+        return quantifier < 0 ? "if ((a & b).any()) return false;"
+               : quantifier > 0 ? "if (andNot(a, b).any()) return false;"
+                                : "if (!(a & b).any()) return false;";
+    }, "return true;");
+    // Cells that break an `all` or `no` condition, plus one for each unmet `some`.
+    winFunction("PSC_DEVICE inline int winDistance(const Env& e)", "int distance = 0;", [](int quantifier) {
+        return quantifier < 0 ? "distance += (a & b).count();"
+               : quantifier > 0 ? "distance += andNot(a, b).count();"
+                                : "distance += (a & b).any() ? 0 : 1;";
+    }, "return distance;");
     out.close("  // namespace psc_game");
     out.line();
 }

@@ -42,10 +42,18 @@ std::unique_ptr<Plugin> Plugin::open(const std::string& path, std::string* error
     PSC_LOAD(setStream, psc_set_stream);
     PSC_LOAD(synchronize, psc_synchronize);
     PSC_LOAD(rollout, psc_rollout);
+    PSC_LOAD(encodeStates, psc_encode_states);
+    PSC_LOAD(decodeState, psc_decode_state);
+    PSC_LOAD(expand, psc_expand);
+    PSC_LOAD(estimateDistance, psc_estimate_distance);
+    PSC_LOAD(deviceAlloc, psc_device_alloc);
+    PSC_LOAD(deviceFree, psc_device_free);
+    PSC_LOAD(copy, psc_copy);
 #undef PSC_LOAD
     if (!info || !p->lastError || !p->batchCreate || !p->batchDestroy || !p->reset || !p->resetEntry || !p->step ||
         !p->observe || !p->stateSize || !p->saveState || !p->loadState || !p->dumpState || !p->getBuffers ||
-        !p->stepBuffers || !p->setStream || !p->synchronize || !p->rollout) {
+        !p->stepBuffers || !p->setStream || !p->synchronize || !p->rollout || !p->encodeStates || !p->decodeState ||
+        !p->expand || !p->estimateDistance || !p->deviceAlloc || !p->deviceFree || !p->copy) {
         *error = path + " lacks functions of the psc plugin ABI";
         return nullptr;
     }

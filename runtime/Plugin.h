@@ -35,6 +35,13 @@ public:
     decltype(&psc_set_stream) setStream = nullptr;
     decltype(&psc_synchronize) synchronize = nullptr;
     decltype(&psc_rollout) rollout = nullptr;
+    decltype(&psc_encode_states) encodeStates = nullptr;
+    decltype(&psc_decode_state) decodeState = nullptr;
+    decltype(&psc_expand) expand = nullptr;
+    decltype(&psc_estimate_distance) estimateDistance = nullptr;
+    decltype(&psc_device_alloc) deviceAlloc = nullptr;
+    decltype(&psc_device_free) deviceFree = nullptr;
+    decltype(&psc_copy) copy = nullptr;
 
 private:
     Plugin() = default;

@@ -266,6 +266,13 @@ enum {
 PSC_API int psc_expand(psc_batch* batch, int32_t template_env, const void* keys, int32_t count, const int32_t* actions,
                        int32_t action_count, void* children, uint8_t* flags, uint64_t* hashes);
 
+/* An estimate of the inputs each key (host memory, on either backend) still
+ * needs to win, from the game's win conditions: the cells that break an
+ * `all` or `no` condition plus one for each unmet `some` condition; 0 when
+ * they all hold.  Not a lower bound in general: one input may fix many cells. */
+PSC_API int psc_estimate_distance(const psc_batch* batch, int32_t template_env, const void* keys, int32_t count,
+                                  int32_t* estimates);
+
 /* Memory psc_expand can use on the batch's backend (device memory for CUDA
  * batches, host memory for CPU ones), and copies between any two pointers
  * (host or device; a copy waits for the batch's queued work first). */

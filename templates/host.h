@@ -675,6 +675,37 @@ int psc_expand(psc_batch* batch, int32_t template_env, const void* keys, int32_t
     return PSC_OK;
 }
 
+int psc_estimate_distance(const psc_batch* batch, int32_t template_env, const void* keys, int32_t count,
+                          int32_t* estimates) {
+    using namespace psc_game;
+    if (int s = checkEnv(batch, template_env)) return s;
+    if (!keys || !estimates) return fail(PSC_ERROR_NULL_POINTER, "keys and estimates must not be NULL");
+    if (count < 0) return fail(PSC_ERROR_BAD_ARGUMENT, "count must not be negative");
+    std::unique_ptr<Env> base(new Env);
+    if (psc_cuda_owns(batch)) {
+        if (int s = psc_cuda_fetch_env(batch, template_env, base.get())) return s;
+    } else {
+        *base = batch->envs[template_env];
+    }
+    const u64* k = static_cast<const u64*>(keys);
+    for (int32_t i = 0; i < count; ++i) {
+        if (keyEntry(k + static_cast<size_t>(i) * kKeyWords) != base->entry) {
+            return fail(PSC_ERROR_BAD_STATE, "key " + std::to_string(i) + " is not of the template environment's entry");
+        }
+    }
+    const auto estimate = [&](int begin, int end) {
+        std::unique_ptr<Env> e(new Env);
+        for (int i = begin; i < end; ++i) {
+            *e = *base;
+            decodeKey(*e, k + static_cast<size_t>(i) * kKeyWords);
+            estimates[i] = winDistance(*e);
+        }
+    };
+    if (batch->pool) batch->pool->run(count, estimate);
+    else estimate(0, count);  // a CUDA batch: no worker threads
+    return PSC_OK;
+}
+
 int psc_device_alloc(psc_batch* batch, size_t bytes, void** pointer) {
     using namespace psc_game;
     if (int s = checkBatch(batch)) return s;

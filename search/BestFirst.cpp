@@ -1,0 +1,102 @@
+// Best-first search over the win-condition estimate (A*, weighted A*,
+// greedy): the open list is a binary heap on f, ties broken toward the
+// smaller estimate, then the older state.  A batch of the best states is
+// taken and expanded together, and the estimates of the new children are
+// computed together.  A state is reached once: a cheaper path found later is
+// not taken (no reopening), which keeps weighted searches fast; with an
+// estimate that is not a lower bound optimality is not promised anyway.
+#include <queue>
+#include <stdexcept>
+
+#include "SearchRun.h"
+
+namespace psc::search {
+namespace {
+
+struct Open {
+    double f;
+    int32_t h;
+    uint32_t state;
+    bool operator<(const Open& o) const {  // std::priority_queue pops the largest: invert
+        if (f != o.f) return f > o.f;
+        if (h != o.h) return h > o.h;
+        return state > o.state;
+    }
+};
+
+}  // namespace
+
+SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight, bool testOnExpand) {
+    StateSpace& space = run.space;
+    const size_t words = space.keyWords();
+    const size_t inputs = space.inputs().size();
+    // Best-first keeps batches small: each batch is chosen on estimates that
+    // the previous batch's children may improve on.
+    const size_t batch = std::min<size_t>(space.maxBatch(), space.backend() == Backend::Cpu ? 256 : 65536);
+    uint32_t root = 0;
+    run.add(space.root().data(), space.rootHash(), StateStore::kNoParent, 0, 0, &root);
+    if (space.rootWon()) return run.solved(root);
+
+    std::vector<uint8_t> won;  // by state: a win reached it (tested on expansion with testOnExpand)
+    won.push_back(0);
+    std::priority_queue<Open> open;
+    int32_t rootEstimate = 0;
+    space.estimate(space.root().data(), 1, &rootEstimate);
+    open.push(Open{hWeight * rootEstimate, rootEstimate, root});
+
+    std::vector<uint32_t> taken;
+    std::vector<uint64_t> keys(batch * words);
+    std::vector<uint64_t> children(batch * inputs * words);
+    std::vector<uint8_t> flags(batch * inputs);
+    std::vector<uint64_t> hashes(batch * inputs);
+    std::vector<uint32_t> fresh;
+    std::vector<uint64_t> freshKeys;
+    std::vector<int32_t> estimates;
+    int deepest = 0;
+    while (!open.empty()) {
+        if (run.stopped()) return run.finish(Status::Limit);
+        taken.clear();
+        while (!open.empty() && taken.size() < batch) {
+            const uint32_t s = open.top().state;
+            open.pop();
+            if (testOnExpand && won[s]) return run.solved(s);
+            taken.push_back(s);
+        }
+        for (size_t i = 0; i < taken.size(); ++i) {
+            const uint64_t* key = run.store.key(taken[i]);
+            std::copy(key, key + words, keys.begin() + static_cast<std::ptrdiff_t>(i * words));
+            deepest = std::max(deepest, static_cast<int>(run.store.depth(taken[i])));
+        }
+        space.expand(keys.data(), taken.size(), children.data(), flags.data(), hashes.data());
+        run.result.expanded += taken.size();
+        run.result.generated += taken.size() * inputs;
+        fresh.clear();
+        freshKeys.clear();
+        for (size_t c = 0; c < taken.size() * inputs; ++c) {
+            if (flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");
+            if (flags[c] & PSC_EXPAND_UNCHANGED) continue;
+            const uint32_t parent = taken[c / inputs];
+            uint32_t child = 0;
+            const StateStore::Insert r = run.add(&children[c * words], hashes[c], parent, static_cast<uint8_t>(c % inputs),
+                                                 run.store.depth(parent) + 1, &child);
+            if (r == StateStore::Insert::Full) return run.finish(Status::Limit);
+            if (r == StateStore::Insert::Known) continue;
+            const bool isWin = (flags[c] & PSC_EXPAND_WON) != 0;
+            won.push_back(isWin ? 1 : 0);
+            if (isWin && !testOnExpand) return run.solved(child);
+            fresh.push_back(child);
+            freshKeys.insert(freshKeys.end(), &children[c * words], &children[c * words] + words);
+        }
+        estimates.resize(fresh.size());
+        if (!fresh.empty()) space.estimate(freshKeys.data(), fresh.size(), estimates.data());
+        for (size_t i = 0; i < fresh.size(); ++i) {
+            // A won state is a goal whatever its estimate says (a `win` command can end a level early).
+            const int32_t h = won[fresh[i]] ? 0 : estimates[i];
+            open.push(Open{gWeight * run.store.depth(fresh[i]) + hWeight * h, h, fresh[i]});
+        }
+        run.reportProgress(deepest);
+    }
+    return run.finish(Status::Exhausted);
+}
+
+}  // namespace psc::search

@@ -1,0 +1,55 @@
+// Breadth-first search, one layer at a time, each layer expanded in batches.
+// A child is tested for a win when it is generated: every state of layer d
+// is expanded before any of layer d + 1, so the first win found is a
+// shortest solution.
+#include <stdexcept>
+
+#include "SearchRun.h"
+
+namespace psc::search {
+
+SolveResult breadthFirst(SearchRun& run) {
+    StateSpace& space = run.space;
+    const size_t words = space.keyWords();
+    const size_t inputs = space.inputs().size();
+    uint32_t root = 0;
+    run.add(space.root().data(), space.rootHash(), StateStore::kNoParent, 0, 0, &root);
+    if (space.rootWon()) return run.solved(root);
+
+    std::vector<uint32_t> layer = {root};
+    std::vector<uint32_t> next;
+    std::vector<uint64_t> keys(space.maxBatch() * words);
+    std::vector<uint64_t> children(space.maxBatch() * inputs * words);
+    std::vector<uint8_t> flags(space.maxBatch() * inputs);
+    std::vector<uint64_t> hashes(space.maxBatch() * inputs);
+    for (uint32_t depth = 0; !layer.empty(); ++depth) {
+        next.clear();
+        for (size_t begin = 0; begin < layer.size(); begin += space.maxBatch()) {
+            if (run.stopped()) return run.finish(Status::Limit);
+            const size_t count = std::min(space.maxBatch(), layer.size() - begin);
+            for (size_t i = 0; i < count; ++i) {
+                const uint64_t* key = run.store.key(layer[begin + i]);
+                std::copy(key, key + words, keys.begin() + static_cast<std::ptrdiff_t>(i * words));
+            }
+            space.expand(keys.data(), count, children.data(), flags.data(), hashes.data());
+            run.result.expanded += count;
+            run.result.generated += count * inputs;
+            for (size_t c = 0; c < count * inputs; ++c) {
+                if (flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");
+                if (flags[c] & PSC_EXPAND_UNCHANGED) continue;
+                uint32_t child = 0;
+                const StateStore::Insert r = run.add(&children[c * words], hashes[c], layer[begin + c / inputs],
+                                                     static_cast<uint8_t>(c % inputs), depth + 1, &child);
+                if (r == StateStore::Insert::Full) return run.finish(Status::Limit);
+                if (r == StateStore::Insert::Known) continue;
+                if (flags[c] & PSC_EXPAND_WON) return run.solved(child);
+                next.push_back(child);
+            }
+            run.reportProgress(static_cast<int>(depth));
+        }
+        layer.swap(next);
+    }
+    return run.finish(Status::Exhausted);
+}
+
+}  // namespace psc::search

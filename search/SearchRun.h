@@ -1,0 +1,44 @@
+// What one search keeps while it runs (internal to search/): the state space,
+// the store of reached states, the limits and the counters.
+#pragma once
+
+#include <chrono>
+#include <vector>
+
+#include "Solver.h"
+#include "StateSpace.h"
+#include "StateStore.h"
+
+namespace psc::search {
+
+class SearchRun {
+public:
+    SearchRun(StateSpace& space, const SolveOptions& options, double timeLimit);
+
+    StateSpace& space;
+    StateStore store;
+    SolveResult result;
+
+    double elapsed() const;
+    // Whether a limit has been reached; sets result.status and result.limit if so.
+    bool stopped();
+    // Records `state` as the solution.
+    SolveResult& solved(uint32_t state);
+    SolveResult& finish(Status status);
+    // Adds a child; sets the limit when the store is full.  Returns Added or Known, or Full.
+    StateStore::Insert add(const uint64_t* key, uint64_t hash, uint32_t parent, uint8_t input, uint32_t depth, uint32_t* index);
+    void reportProgress(int depth);
+
+private:
+    const SolveOptions& options_;
+    double timeLimit_;
+    std::chrono::steady_clock::time_point start_;
+    double lastProgress_ = 0;
+};
+
+SolveResult breadthFirst(SearchRun& run);
+// f = gWeight * depth + hWeight * estimate; goal tested when a state is taken
+// from the open list if testOnExpand (A*), else when it is generated.
+SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight, bool testOnExpand);
+
+}  // namespace psc::search

@@ -1,0 +1,84 @@
+#include "Solver.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "SearchRun.h"
+
+namespace psc::search {
+
+std::optional<Algorithm> parseAlgorithm(std::string_view name) {
+    if (name == "bfs") return Algorithm::BreadthFirst;
+    if (name == "astar") return Algorithm::AStar;
+    if (name == "wastar") return Algorithm::WeightedAStar;
+    if (name == "greedy") return Algorithm::Greedy;
+    if (name == "portfolio") return Algorithm::Portfolio;
+    return std::nullopt;
+}
+
+std::string_view algorithmName(Algorithm algorithm) {
+    switch (algorithm) {
+        case Algorithm::BreadthFirst: return "bfs";
+        case Algorithm::AStar: return "astar";
+        case Algorithm::WeightedAStar: return "wastar";
+        case Algorithm::Greedy: return "greedy";
+        case Algorithm::Portfolio: return "portfolio";
+    }
+    return "?";
+}
+
+std::string_view statusName(Status status) {
+    switch (status) {
+        case Status::Solved: return "solved";
+        case Status::Exhausted: return "exhausted";
+        case Status::Limit: return "limit";
+    }
+    return "?";
+}
+
+namespace {
+
+SolveResult runOne(StateSpace& space, const SolveOptions& options, Algorithm algorithm, double timeLimit) {
+    SearchRun run(space, options, timeLimit);
+    switch (algorithm) {
+        case Algorithm::BreadthFirst: return breadthFirst(run);
+        case Algorithm::AStar: return bestFirst(run, 1, 1, true);
+        case Algorithm::WeightedAStar: return bestFirst(run, 1, options.weight, false);
+        case Algorithm::Greedy: return bestFirst(run, 0, 1, false);
+        case Algorithm::Portfolio: break;
+    }
+    throw std::logic_error("runOne: a portfolio is not one search");
+}
+
+// Breadth-first for a sixth of the time (the shortest solution when it
+// finishes), then weighted A* with what is left.
+SolveResult portfolio(StateSpace& space, const SolveOptions& options) {
+    SolveResult first = runOne(space, options, Algorithm::BreadthFirst, options.timeLimit / 6);
+    if (first.status != Status::Limit || first.limit == "states") return first;
+    SolveResult second = runOne(space, options, Algorithm::WeightedAStar, std::max(0.0, options.timeLimit - first.seconds));
+    second.expanded += first.expanded;
+    second.generated += first.generated;
+    second.unique = std::max(second.unique, first.unique);
+    second.seconds += first.seconds;
+    second.bytes = std::max(second.bytes, first.bytes);
+    return second;
+}
+
+}  // namespace
+
+SolveResult solve(const Plugin& plugin, int level, const SolveOptions& options) {
+    if (!(options.timeLimit > 0)) throw std::runtime_error("the time limit must be positive");
+    if (!(options.weight >= 1)) throw std::runtime_error("the weight must be at least 1");
+    StateSpace space(plugin, options.space, level, options.fromInputs);
+    SolveResult result = options.algorithm == Algorithm::Portfolio
+                             ? portfolio(space, options)
+                             : runOne(space, options, options.algorithm, options.timeLimit);
+    // The plugin is the engine: a solution that does not win when replayed would be a bug in search.
+    if (result.status == Status::Solved && !space.rootWon() &&
+        !space.winsExactlyAtEnd(options.fromInputs + result.solution)) {
+        throw std::runtime_error("internal error: the solution found does not win when replayed");
+    }
+    return result;
+}
+
+}  // namespace psc::search

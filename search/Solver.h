@@ -1,0 +1,64 @@
+// psc's solver: solutions of a level found by search over a game's plugin
+// (batched expansion of state keys, on CPU threads or the GPU).
+//   bfs       breadth-first: the shortest solution in inputs (the default);
+//   astar     A* on the win-condition estimate (f = g + h; h is not a lower
+//             bound in general, so solutions may be longer than the shortest);
+//   wastar    weighted A* (f = g + w h), for levels breadth-first cannot finish;
+//   greedy    greedy best-first (f = h, ties to the shallower);
+//   portfolio breadth-first for a sixth of the time, then weighted A*.
+// docs/search.md gives the measurements behind these choices.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "Plugin.h"
+#include "StateSpace.h"
+
+namespace psc::search {
+
+enum class Algorithm { BreadthFirst, AStar, WeightedAStar, Greedy, Portfolio };
+std::optional<Algorithm> parseAlgorithm(std::string_view name);
+std::string_view algorithmName(Algorithm algorithm);
+
+// solved: a solution; exhausted: every reachable state seen, none won; limit: a limit stopped the search.
+enum class Status { Solved, Exhausted, Limit };
+std::string_view statusName(Status status);
+
+struct Progress {
+    int depth = 0;            // breadth-first: the layer; best-first: the deepest state expanded
+    uint64_t expanded = 0;
+    uint64_t unique = 0;
+    double seconds = 0;
+    size_t bytes = 0;         // the state store's memory
+};
+
+struct SolveOptions {
+    Algorithm algorithm = Algorithm::BreadthFirst;
+    double timeLimit = 60;    // seconds
+    uint64_t maxStates = 0;   // unique states; 0: only memory bounds them
+    size_t maxMemory = 0;     // bytes for the state store; 0: half of the machine's memory
+    double weight = 2;        // wastar's w
+    SpaceOptions space;
+    std::string fromInputs;   // inputs played from the level's start before searching
+    std::function<void(const Progress&)> progress;  // called about once a second
+};
+
+struct SolveResult {
+    Status status = Status::Limit;
+    std::string solution;     // letters u d l r x, when solved
+    std::string limit;        // which limit stopped the search: time, states or memory
+    uint64_t expanded = 0;    // states whose children were computed
+    uint64_t generated = 0;   // children computed
+    uint64_t unique = 0;      // distinct states reached
+    double seconds = 0;
+    size_t bytes = 0;         // peak memory of the state store
+};
+
+// Throws std::runtime_error on a bad level, input letter or plugin failure.
+SolveResult solve(const Plugin& plugin, int level, const SolveOptions& options);
+
+}  // namespace psc::search
