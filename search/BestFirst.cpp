@@ -2,9 +2,10 @@
 // greedy): the open list is a binary heap on f, ties broken toward the
 // smaller estimate, then the older state.  A batch of the best states is
 // taken and expanded together, and the estimates of the new children are
-// computed together.  A state is reached once: a cheaper path found later is
-// not taken (no reopening), which keeps weighted searches fast; with an
-// estimate that is not a lower bound optimality is not promised anyway.
+// computed together.  Children are tested for a win when generated, and a
+// state is reached once: a cheaper path found later is not taken (no
+// reopening).  Both keep weighted searches fast; with an estimate that is not
+// a lower bound optimality is not promised anyway (breadth-first promises it).
 #include <queue>
 #include <stdexcept>
 
@@ -26,7 +27,7 @@ struct Open {
 
 }  // namespace
 
-SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight, bool testOnExpand) {
+SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight) {
     StateSpace& space = run.space;
     const size_t words = space.keyWords();
     const size_t inputs = space.inputs().size();
@@ -37,8 +38,6 @@ SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight, bool testO
     run.add(space.root().data(), space.rootHash(), StateStore::kNoParent, 0, 0, &root);
     if (space.rootWon()) return run.solved(root);
 
-    std::vector<uint8_t> won;  // by state: a win reached it (tested on expansion with testOnExpand)
-    won.push_back(0);
     std::priority_queue<Open> open;
     int32_t rootEstimate = 0;
     space.estimate(space.root().data(), 1, &rootEstimate);
@@ -57,10 +56,8 @@ SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight, bool testO
         if (run.stopped()) return run.finish(Status::Limit);
         taken.clear();
         while (!open.empty() && taken.size() < batch) {
-            const uint32_t s = open.top().state;
+            taken.push_back(open.top().state);
             open.pop();
-            if (testOnExpand && won[s]) return run.solved(s);
-            taken.push_back(s);
         }
         for (size_t i = 0; i < taken.size(); ++i) {
             const uint64_t* key = run.store.key(taken[i]);
@@ -74,25 +71,21 @@ SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight, bool testO
         freshKeys.clear();
         for (size_t c = 0; c < taken.size() * inputs; ++c) {
             if (flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");
-            if (flags[c] & PSC_EXPAND_UNCHANGED) continue;
             const uint32_t parent = taken[c / inputs];
+            if (flags[c] & PSC_EXPAND_WON) return run.solved(parent, static_cast<int>(c % inputs));
+            if (flags[c] & PSC_EXPAND_UNCHANGED) continue;
             uint32_t child = 0;
             const StateStore::Insert r = run.add(&children[c * words], hashes[c], parent, static_cast<uint8_t>(c % inputs),
                                                  run.store.depth(parent) + 1, &child);
             if (r == StateStore::Insert::Full) return run.finish(Status::Limit);
             if (r == StateStore::Insert::Known) continue;
-            const bool isWin = (flags[c] & PSC_EXPAND_WON) != 0;
-            won.push_back(isWin ? 1 : 0);
-            if (isWin && !testOnExpand) return run.solved(child);
             fresh.push_back(child);
             freshKeys.insert(freshKeys.end(), &children[c * words], &children[c * words] + words);
         }
         estimates.resize(fresh.size());
         if (!fresh.empty()) space.estimate(freshKeys.data(), fresh.size(), estimates.data());
         for (size_t i = 0; i < fresh.size(); ++i) {
-            // A won state is a goal whatever its estimate says (a `win` command can end a level early).
-            const int32_t h = won[fresh[i]] ? 0 : estimates[i];
-            open.push(Open{gWeight * run.store.depth(fresh[i]) + hWeight * h, h, fresh[i]});
+            open.push(Open{gWeight * run.store.depth(fresh[i]) + hWeight * estimates[i], estimates[i], fresh[i]});
         }
         run.reportProgress(deepest);
     }

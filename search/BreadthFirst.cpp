@@ -1,7 +1,8 @@
 // Breadth-first search, one layer at a time, each layer expanded in batches.
 // A child is tested for a win when it is generated: every state of layer d
 // is expanded before any of layer d + 1, so the first win found is a
-// shortest solution.
+// shortest solution.  A winning input counts even when it changes nothing
+// (a level whose win conditions already hold is won by any input).
 #include <stdexcept>
 
 #include "SearchRun.h"
@@ -36,14 +37,13 @@ SolveResult breadthFirst(SearchRun& run) {
             run.result.generated += count * inputs;
             for (size_t c = 0; c < count * inputs; ++c) {
                 if (flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");
+                if (flags[c] & PSC_EXPAND_WON) return run.solved(layer[begin + c / inputs], static_cast<int>(c % inputs));
                 if (flags[c] & PSC_EXPAND_UNCHANGED) continue;
                 uint32_t child = 0;
                 const StateStore::Insert r = run.add(&children[c * words], hashes[c], layer[begin + c / inputs],
                                                      static_cast<uint8_t>(c % inputs), depth + 1, &child);
                 if (r == StateStore::Insert::Full) return run.finish(Status::Limit);
-                if (r == StateStore::Insert::Known) continue;
-                if (flags[c] & PSC_EXPAND_WON) return run.solved(child);
-                next.push_back(child);
+                if (r == StateStore::Insert::Added) next.push_back(child);
             }
             run.reportProgress(static_cast<int>(depth));
         }

@@ -49,9 +49,10 @@ SolveResult& SearchRun::finish(Status status) {
     return result;
 }
 
-SolveResult& SearchRun::solved(uint32_t state) {
+SolveResult& SearchRun::solved(uint32_t state, int input) {
     result.solution.clear();
     for (int action : store.path(state)) result.solution += inputLetter(space.inputs()[static_cast<size_t>(action)]);
+    if (input >= 0) result.solution += inputLetter(space.inputs()[static_cast<size_t>(input)]);
     return finish(Status::Solved);
 }
 

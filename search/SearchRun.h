@@ -22,8 +22,8 @@ public:
     double elapsed() const;
     // Whether a limit has been reached; sets result.status and result.limit if so.
     bool stopped();
-    // Records `state` as the solution.
-    SolveResult& solved(uint32_t state);
+    // Records the path to `state`, then `input` if not negative, as the solution.
+    SolveResult& solved(uint32_t state, int input = -1);
     SolveResult& finish(Status status);
     // Adds a child; sets the limit when the store is full.  Returns Added or Known, or Full.
     StateStore::Insert add(const uint64_t* key, uint64_t hash, uint32_t parent, uint8_t input, uint32_t depth, uint32_t* index);
@@ -37,8 +37,7 @@ private:
 };
 
 SolveResult breadthFirst(SearchRun& run);
-// f = gWeight * depth + hWeight * estimate; goal tested when a state is taken
-// from the open list if testOnExpand (A*), else when it is generated.
-SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight, bool testOnExpand);
+// f = gWeight * depth + hWeight * estimate.
+SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight);
 
 }  // namespace psc::search

@@ -42,9 +42,9 @@ SolveResult runOne(StateSpace& space, const SolveOptions& options, Algorithm alg
     SearchRun run(space, options, timeLimit);
     switch (algorithm) {
         case Algorithm::BreadthFirst: return breadthFirst(run);
-        case Algorithm::AStar: return bestFirst(run, 1, 1, true);
-        case Algorithm::WeightedAStar: return bestFirst(run, 1, options.weight, false);
-        case Algorithm::Greedy: return bestFirst(run, 0, 1, false);
+        case Algorithm::AStar: return bestFirst(run, 1, 1);
+        case Algorithm::WeightedAStar: return bestFirst(run, 1, options.weight);
+        case Algorithm::Greedy: return bestFirst(run, 0, 1);
         case Algorithm::Portfolio: break;
     }
     throw std::logic_error("runOne: a portfolio is not one search");

@@ -1,8 +1,9 @@
 // psc's solver: solutions of a level found by search over a game's plugin
 // (batched expansion of state keys, on CPU threads or the GPU).
 //   bfs       breadth-first: the shortest solution in inputs (the default);
-//   astar     A* on the win-condition estimate (f = g + h; h is not a lower
-//             bound in general, so solutions may be longer than the shortest);
+//   astar     best-first on f = g + h, h the win-condition estimate
+//             (psc_estimate_distance; not a lower bound in general, so
+//             solutions may be longer than the shortest);
 //   wastar    weighted A* (f = g + w h), for levels breadth-first cannot finish;
 //   greedy    greedy best-first (f = h, ties to the shallower);
 //   portfolio breadth-first for a sixth of the time, then weighted A*.

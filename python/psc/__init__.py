@@ -3,6 +3,7 @@
 from .build import CompileError, compile, emit_ir
 from .plugin import GameInfo, Plugin, PscError
 from .render import render_planes, save_gif
+from .solve import SolveError, solve
 from .vector_env import Buffers, EnvState, VectorEnv
 
 __all__ = [
@@ -17,4 +18,6 @@ __all__ = [
     "emit_ir",
     "render_planes",
     "save_gif",
+    "solve",
+    "SolveError",
 ]

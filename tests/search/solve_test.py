@@ -1,0 +1,135 @@
+#!/usr/bin/python3
+"""psc solve on small games with hand-checked answers (tests/search/games/*.txt
+say why each answer is right; the original engine agrees on every solution
+below).  Every solution is replayed through the game's plugin, which must win
+at the last input and not before.
+
+Usage: solve_test.py PSC_BINARY"""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parents[1]
+sys.path.insert(0, str(REPO / "python"))
+
+import psc  # noqa: E402
+from psc import _abi  # noqa: E402
+from psc.batch import Batch  # noqa: E402
+
+PSC = sys.argv[1]
+GAMES = HERE / "games"
+ACTIONS = {"u": 0, "l": 1, "d": 2, "r": 3, "x": 4}
+failures = []
+checks = 0
+
+
+def check(condition, what):
+    global checks
+    checks += 1
+    if not condition:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+def solve(game, *args):
+    done = subprocess.run([PSC, "solve", str(game), "--format", "json", "--quiet", *args], capture_output=True, text=True)
+    records = [json.loads(line) for line in done.stdout.splitlines() if line.strip()]
+    return done.returncode, records, done.stderr
+
+
+def wins_exactly_at_end(game, level, solution, seed=0, from_inputs=""):
+    plugin = psc.Plugin(psc.compile(game, psc_binary=PSC))
+    batch = Batch(plugin, 1, _abi.BACKEND_CPU, 1, 0, _abi.AUTO_RESET_NEXT_STEP, 0)
+    batch.reset([level], [seed])
+    inputs = from_inputs + solution
+    for i, letter in enumerate(inputs):
+        if batch.step([ACTIONS[letter]])[0]["won"]:
+            return i == len(inputs) - 1
+    return False
+
+
+# (game, level, expected status, expected solution: exact when breadth-first must find that one)
+EXPECTED = [
+    ("maze.txt", 0, "solved", "rr"),
+    ("maze.txt", 1, "solved", "ddrruurr"),
+    ("push.txt", 0, "solved", "rr"),
+    ("push.txt", 1, "exhausted", None),     # the crate is cornered
+    ("push.txt", 2, "solved", "u"),         # won on start: the first input wins
+    ("conveyor.txt", 0, "solved", "r"),     # an again chain carries the player to the goal
+    ("bump_plain.txt", 0, "solved", "lrr"),
+    ("bump_plain.txt", 1, "solved", "xrr"),
+    ("bump_required.txt", 0, "exhausted", None),  # require_player_movement undoes the bump
+    ("bump_required.txt", 1, "exhausted", None),  # and the action
+]
+
+for game, level, status, solution in EXPECTED:
+    code, records, err = solve(GAMES / game, "--level", str(level))
+    what = f"{game} level {level}"
+    check(len(records) == 1, f"{what}: one record ({err.strip()})")
+    if not records:
+        continue
+    r = records[0]
+    check(r["status"] == status, f"{what}: status {r['status']}, expected {status}")
+    check(code == (0 if status == "solved" else 1), f"{what}: exit {code}")
+    check(r["solution"] == solution, f"{what}: solution {r['solution']}, expected {solution}")
+    check(r["level"] == level and r["unique_states"] >= 1 and r["expanded"] >= 1, f"{what}: counters {r}")
+    if solution:
+        check(r["length"] == len(solution), f"{what}: length")
+        check(wins_exactly_at_end(GAMES / game, level, r["solution"]), f"{what}: replay wins at the end")
+
+# Every algorithm finds a solution that wins; breadth-first's is never longer.
+for algorithm in ["astar", "wastar", "greedy", "portfolio"]:
+    for game, level in [("maze.txt", 1), ("push.txt", 0), ("bump_plain.txt", 1)]:
+        code, records, err = solve(GAMES / game, "--level", str(level), "--algorithm", algorithm)
+        what = f"{algorithm} {game} level {level}"
+        check(code == 0 and records and records[0]["status"] == "solved", f"{what}: solved ({err.strip()})")
+        if records and records[0]["solution"]:
+            check(records[0]["algorithm"] == algorithm, f"{what}: algorithm recorded")
+            check(wins_exactly_at_end(GAMES / game, level, records[0]["solution"]), f"{what}: replay wins")
+
+# --from-inputs: the search continues from the state those inputs reach.
+code, records, _ = solve(GAMES / "maze.txt", "--level", "1", "--from-inputs", "dd")
+check(code == 0 and records[0]["solution"] == "rruurr", f"from-inputs: {records}")
+check(wins_exactly_at_end(GAMES / "maze.txt", 1, records[0]["solution"], from_inputs="dd"), "from-inputs: replay wins")
+
+# noaction: action is not searched (4 children a state) and never in a solution.
+noaction = REPO / "python" / "tests" / "data" / "noaction.txt"
+code, records, _ = solve(noaction, "--all-levels")
+for r in records:
+    check(r["generated"] == 4 * r["expanded"], f"noaction level {r['level']}: 4 inputs a state")
+    check(r["status"] == "solved" and "x" not in r["solution"], f"noaction level {r['level']}: {r['solution']}")
+
+# Random rules: the random stream is part of the state, so a solution is exact
+# for the seed it was searched with, and replays to a win with that seed.
+gems = REPO / "games" / "gems.txt"
+for seed in [0, 1]:
+    code, records, err = solve(gems, "--level", "0", "--seed", str(seed), "--time-limit", "60")
+    check(code == 0 and records and records[0]["status"] == "solved", f"gems seed {seed}: solved ({err.strip()})")
+    if records and records[0]["solution"]:
+        check(wins_exactly_at_end(gems, 0, records[0]["solution"], seed=seed), f"gems seed {seed}: replay wins")
+
+# Limits stop the search and say which; the exit status is 1.
+sokoban = REPO / "games" / "sokoban.txt"
+for args, limit in [(["--max-states", "50"], "states"), (["--max-memory", "1"], "memory"),
+                    (["--time-limit", "0.000001"], "time")]:
+    code, records, _ = solve(sokoban, "--level", "2", *args)
+    check(code == 1 and records and records[0]["status"] == "limit" and records[0].get("limit") == limit,
+          f"limit {limit}: {code} {records}")
+
+# Bad arguments: a clear message and exit 2.
+for args, message in [
+    ([str(sokoban), "--algorithm", "dfs"], "dfs"),
+    ([str(sokoban), "--level", "99"], "out of range"),
+    ([str(sokoban), "--from-inputs", "uq"], "not an input"),
+    ([str(sokoban), "--time-limit", "0"], "time-limit"),
+    ([str(sokoban), "--level", "1", "--all-levels"], "exclude"),
+    ([str(GAMES / "missing.txt")], "missing.txt"),
+]:
+    done = subprocess.run([PSC, "solve", *args], capture_output=True, text=True)
+    check(done.returncode == 2 and message in done.stderr, f"bad arguments {args}: exit {done.returncode}, {done.stderr.strip()}")
+
+print(f"{checks - len(failures)} passed, {len(failures)} failed")
+sys.exit(1 if failures else 0)
