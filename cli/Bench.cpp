@@ -6,6 +6,7 @@
 #include <chrono>
 #include <vector>
 
+#include "BenchExpand.h"
 #include "CudaTimer.h"
 #include "SourceFile.h"
 
@@ -49,6 +50,7 @@ int runBench(const BenchOptions& o) {
         fmt::print(stderr, "psc bench: level {} out of range [0, {})\n", o.level, info.level_count);
         return 2;
     }
+    if (o.expand) return runExpandBench(o, *plugin);
     std::optional<CudaTimer> timer;
     if (cuda) {
         std::string error;

@@ -21,6 +21,7 @@ struct BenchOptions {
     int warmup = 1;
     std::string backend = "cpu";
     bool allLevels = false;  // build every level (default: only the one measured)
+    bool expand = false;     // measure psc_expand (BenchExpand.h) instead of stepping
     GameBuildOptions build;
 };
 

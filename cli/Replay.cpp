@@ -104,21 +104,37 @@ int runReplay(const ReplayOptions& options) {
         // Under --verbose: where a replay's time goes (a GPU replay steps one
         // environment on one thread, so its stepping can outweigh the compile).
         const auto created = Clock::now();
+        bo.num_envs = options.checkKeys ? 2 : 1;  // environment 1: the template keys are decoded over
         Batch batch(*plugin, bo);
         const std::string seed = c.at("level_seed").get<std::string>();
         batch.check(plugin->resetEntry(batch.get(), 0, c.at("start_level").get<int>(), seed.c_str()), "starting the level");
         if (options.build.build.verbose) fmt::print(stderr, "psc: batch created and level started in {:.2f} s\n", secondsSince(created));
         double stepSeconds = 0, readSeconds = 0;
         auto lastProgress = Clock::now();
+        std::vector<uint64_t> key(plugin->info().state_key_bytes / 8);
+        auto keyGivesBack = [&](const json& actual) {
+            const int32_t env = 0;
+            batch.check(plugin->encodeStates(batch.get(), &env, 1, key.data(), nullptr), "encoding the state");
+            batch.check(plugin->resetEntry(batch.get(), 1, actual.at("level").get<int>(), seed.c_str()), "starting the template");
+            batch.check(plugin->decodeState(batch.get(), 1, key.data()), "decoding the state");
+            return json::parse(batch.dump(1)) == actual;
+        };
         auto compare = [&](const json& expected, const std::string& label) {
             const auto start = Clock::now();
             const json actual = json::parse(batch.dump(0));
             readSeconds += secondsSince(start);
             if (dump) dump << actual.dump() << "\n";
-            if (comparable(expected) == actual) return true;
-            fmt::print("MISMATCH {} {}\n", c.value("id", options.casePath), label);
-            printDifference(expected, actual);
-            return false;
+            if (comparable(expected) != actual) {
+                fmt::print("MISMATCH {} {}\n", c.value("id", options.casePath), label);
+                printDifference(expected, actual);
+                return false;
+            }
+            if (options.checkKeys && actual.at("screen") == "level" && !keyGivesBack(actual)) {
+                fmt::print("MISMATCH {} {}: the state key does not give back the state\n", c.value("id", options.casePath), label);
+                printDifference(actual, json::parse(batch.dump(1)));
+                return false;
+            }
+            return true;
         };
         if (!compare(c.at("initial"), "at the start")) return 1;
         const json& inputs = c.at("inputs");

@@ -160,6 +160,7 @@ int main(int argc, char** argv) {
     replay->add_option("--gpu-state", replayOptions.build.gpuState, gpuStateHelp)->check(gpuStates);
     replay->add_option("--cuda-units", replayOptions.build.cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     replay->add_option("--dump", replayOptions.dumpPath, "write every state as a JSON line to this file");
+    replay->add_flag("--check-keys", replayOptions.checkKeys, "also check that every level state's search key gives it back");
     replay->add_flag("--verbose", replayOptions.build.build.verbose, "print the compiler command and cache use");
 
     cli::BenchOptions benchOptions;
@@ -176,6 +177,7 @@ int main(int argc, char** argv) {
     bench->add_option("--gpu-state", benchOptions.build.gpuState, gpuStateHelp)->check(gpuStates);
     bench->add_option("--cuda-units", benchOptions.build.cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     bench->add_flag("--native", benchOptions.build.build.native, "compile for this machine (-march=native)");
+    bench->add_flag("--expand", benchOptions.expand, "measure search's batched expansion (children/s) instead of steps/s");
     bench->add_flag("--all-levels", benchOptions.allLevels, "build the plugin for every level, not only the one measured");
     bench->add_flag("--verbose", benchOptions.build.build.verbose, "print the compiler command and cache use");
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "CodeWriter.h"
+#include "KeyObjects.h"
 #include "RuleCode.h"
 #include "Templates.h"
 #include "base/JsString.h"
@@ -565,6 +566,12 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     out.raw(templates::movement());
     out.line();
     out.raw(templates::engine());
+    out.line();
+    const std::vector<int> keyIds = keyObjects(game);
+    out.open("namespace psc_game");
+    out.line(fmt::format("constexpr int kKeyObjectCount = {};  // objects an input can create, destroy or move", keyIds.size()));
+    out.line("PSC_TABLE int kKeyObjects[] = {" + list(keyIds, [](int id) { return std::to_string(id); }, "-1") + "};");
+    out.close("  // namespace psc_game");
     out.line();
     out.raw(templates::stateKey());
     return out.text();

@@ -10,9 +10,11 @@
 //  - word 0: the entry shown and the screen flags (title screen, message
 //    shown, an `again` left pending by a cut-off chain, a level left out of
 //    the plugin reached);
-//  - the object boards: the level itself;
-//  - the restart target's objects, only if a rule can `checkpoint` (without
-//    one it is always the level's first state, which the template holds);
+//  - the boards of the objects an input can create, destroy or move
+//    (kKeyObjects, codegen/KeyObjects.h): the others never leave the places
+//    the level gave them, which the template holds;
+//  - those objects in the restart target, only if a rule can `checkpoint`
+//    (without one it is always the level's first state, as in the template);
 //  - the movement boards, only if late rules can leave random movements
 //    behind a turn (kMovementsCanLinger; otherwise they are empty between inputs);
 //  - the RC4 stream's state, only for games that use random: the same board
@@ -25,8 +27,8 @@
 
 namespace psc_game {
 
-constexpr int kKeyBoardWords = kObjects * kWords;
-constexpr int kKeyCheckpointWords = kHasCheckpoint ? kObjects * kWords : 0;
+constexpr int kKeyBoardWords = kKeyObjectCount * kWords;
+constexpr int kKeyCheckpointWords = kHasCheckpoint ? kKeyObjectCount * kWords : 0;
 constexpr int kKeyMovementWords = kMovementsCanLinger ? kLayers * 5 * kWords : 0;
 #if PSC_USES_RANDOM
 constexpr int kKeyRngWords = (256 + 2 + 7) / 8;
@@ -46,12 +48,12 @@ PSC_DEVICE PSC_INLINE int keyEntry(const u64* key) { return static_cast<short>(k
 PSC_DEVICE inline void encodeKey(const Env& e, u64* key) {
     int at = 0;
     key[at++] = keyHeader(e);
-    PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) {
-        PSC_UNROLL for (int w = 0; w < kWords; ++w) key[at++] = e.obj[o].w[w];
+    PSC_UNROLL_STATE for (int k = 0; k < kKeyObjectCount; ++k) {
+        PSC_UNROLL for (int w = 0; w < kWords; ++w) key[at++] = e.obj[kKeyObjects[k]].w[w];
     }
     if (kHasCheckpoint) {
-        PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) {
-            PSC_UNROLL for (int w = 0; w < kWords; ++w) key[at++] = e.restartTarget.obj[o].w[w];
+        PSC_UNROLL_STATE for (int k = 0; k < kKeyObjectCount; ++k) {
+            PSC_UNROLL for (int w = 0; w < kWords; ++w) key[at++] = e.restartTarget.obj[kKeyObjects[k]].w[w];
         }
     }
     if (kMovementsCanLinger) {
@@ -85,12 +87,12 @@ PSC_DEVICE inline void decodeKey(Env& e, const u64* key) {
     e.queue = 0;
     e.restarting = 0;
     e.wins = 0;
-    PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) {
-        PSC_UNROLL for (int w = 0; w < kWords; ++w) e.obj[o].w[w] = key[at++];
+    PSC_UNROLL_STATE for (int k = 0; k < kKeyObjectCount; ++k) {
+        PSC_UNROLL for (int w = 0; w < kWords; ++w) e.obj[kKeyObjects[k]].w[w] = key[at++];
     }
     if (kHasCheckpoint) {
-        for (int o = 0; o < kObjects; ++o) {
-            for (int w = 0; w < kWords; ++w) e.restartTarget.obj[o].w[w] = key[at++];
+        for (int k = 0; k < kKeyObjectCount; ++k) {
+            for (int w = 0; w < kWords; ++w) e.restartTarget.obj[kKeyObjects[k]].w[w] = key[at++];
         }
     }
     if (kMovementsCanLinger) {

@@ -88,6 +88,7 @@ def main():
     ap.add_argument("--ids-file", default="", help="replay the case ids listed in this file (one a line)")
     ap.add_argument("--timeout", type=float, default=300, help="seconds a case may take, compile included")
     ap.add_argument("--verbose", action="store_true", help="psc replay's --verbose: compile options and where the time goes")
+    ap.add_argument("--check-keys", action="store_true", help="psc replay's --check-keys: every level state's search key gives it back")
     ap.add_argument("--list", action="store_true", help="print the chosen cases' paths instead of replaying them")
     ap.add_argument("ids", nargs="*")
     a = ap.parse_args()
@@ -108,7 +109,8 @@ def main():
         print("\n".join(os.path.join(a.corpus, e["path"]) for e in cases))
         return
     extra = ["--backend", a.backend] + (["--fast-compile", a.fast_compile] if a.fast_compile else []) + \
-        (["--gpu-state", a.gpu_state] if a.gpu_state else []) + (["--verbose"] if a.verbose else [])
+        (["--gpu-state", a.gpu_state] if a.gpu_state else []) + (["--verbose"] if a.verbose else []) + \
+        (["--check-keys"] if a.check_keys else [])
     if a.dumps:
         os.makedirs(a.dumps, exist_ok=True)
     results = []

@@ -1,0 +1,15 @@
+// psc bench --expand: how fast a game's plugin expands states for search
+// (psc_expand), in children generated per second.  The keys are a frontier
+// of distinct states that breadth-first search reaches from the level's
+// start; they stay where the backend computes (device memory on the GPU), so
+// the figure is expansion alone.  One row per batch size (states a call),
+// median, min and max of the repeats after warm-up (CUDA events on the GPU).
+#pragma once
+
+#include "Bench.h"
+
+namespace psc::cli {
+
+int runExpandBench(const BenchOptions& options, const Plugin& plugin);
+
+}  // namespace psc::cli
