@@ -16,6 +16,7 @@ namespace psc::codegen {
 namespace {
 
 using ir::Game;
+using ir::WinCondition;
 
 constexpr const char* kGeneratorVersion = "psc 0.1.0";
 
@@ -294,6 +295,49 @@ std::string objectsExpr(const BitSet& mask, bool all, const char* emptyAll, cons
     return terms.size() > 1 ? "(" + out + ")" : out;
 }
 
+// A function over the win conditions: `check` gives each condition's
+// statement over its boards a (the objects) and b (what they must be on).
+template <typename Check>
+void winFunction(CodeWriter& out, const Game& g, const std::string& signature, const std::string& start, Check check,
+                 const std::string& finish) {
+    out.open(signature);
+    if (!start.empty()) out.line(start);
+    bool needNonEmpty = false;
+    for (const auto& w : g.winConditions) needNonEmpty = needNonEmpty || w.onEverything;
+    if (needNonEmpty) {
+        std::string all;
+        for (int id = 0; id < g.objectCount; ++id) all += fmt::format("{}e.obj[{}]", id ? " | " : "", id);
+        out.line("const Board nonEmpty = " + (all.empty() ? std::string("Board::zero()") : "(" + all + ")") + ";");
+    }
+    for (const auto& w : g.winConditions) {
+        const char* q = w.quantifier < 0 ? "no" : w.quantifier > 0 ? "all" : "some";
+        out.line(fmt::format("// line {}: {}", w.line, q));
+        out.open("");
+        out.line("const Board a = " + objectsExpr(w.objects, w.aggregate1, "e.inside", "Board::zero()") + ";");
+        out.line("const Board b = " + (w.onEverything ? std::string("nonEmpty")
+                                                       : objectsExpr(w.on, w.aggregate2, "e.inside", "Board::zero()")) + ";");
+        out.line(check(w));
+        out.close();
+    }
+    out.line("(void)e;");
+    out.line(finish);
+    out.close();
+    out.line();
+}
+
+// Search's estimate of the inputs still needed (psc_estimate_distance):
+// templates/state_key.h defines the distances it adds up.
+void emitWinDistance(CodeWriter& out, const Game& g) {
+    out.open("namespace psc_game");
+    winFunction(out, g, "PSC_DEVICE inline int winDistance(const Env& e)", "int distance = 0;", [](const WinCondition& w) {
+        if (w.quantifier < 0) return std::string("distance += (a & b).count();");
+        if (w.onEverything) return std::string(w.quantifier > 0 ? "distance += andNot(a, b).count();" : "distance += a.any() ? 0 : 1;");
+        return std::string(w.quantifier > 0 ? "distance += distanceAllOn(e, a, b);" : "distance += distanceSomeOn(e, a, b);");
+    }, "return distance;");
+    out.close("  // namespace psc_game");
+    out.line();
+}
+
 void emitPlayerAndWin(CodeWriter& out, const Game& g) {
     out.line("// ---- the player, and win conditions");
     out.open("namespace psc_game");
@@ -321,44 +365,11 @@ void emitPlayerAndWin(CodeWriter& out, const Game& g) {
     out.line("(void)k;");
     out.close();
     out.line();
-    // The win conditions twice: whether they all hold, and an estimate of the
-    // inputs still needed (search's heuristic, templates/state_key.h).
-    auto winFunction = [&](const std::string& signature, const std::string& start, auto check, const std::string& finish) {
-        out.open(signature);
-        if (!start.empty()) out.line(start);
-        bool needNonEmpty = false;
-        for (const auto& w : g.winConditions) needNonEmpty = needNonEmpty || w.onEverything;
-        if (needNonEmpty) {
-            std::string all;
-            for (int id = 0; id < g.objectCount; ++id) all += fmt::format("{}e.obj[{}]", id ? " | " : "", id);
-            out.line("const Board nonEmpty = " + (all.empty() ? std::string("Board::zero()") : "(" + all + ")") + ";");
-        }
-        for (const auto& w : g.winConditions) {
-            const char* q = w.quantifier < 0 ? "no" : w.quantifier > 0 ? "all" : "some";
-            out.line(fmt::format("// line {}: {}", w.line, q));
-            out.open("");
-            out.line("const Board a = " + objectsExpr(w.objects, w.aggregate1, "e.inside", "Board::zero()") + ";");
-            out.line("const Board b = " + (w.onEverything ? std::string("nonEmpty")
-                                                           : objectsExpr(w.on, w.aggregate2, "e.inside", "Board::zero()")) + ";");
-            out.line(check(w.quantifier));
-            out.close();
-        }
-        out.line("(void)e;");
-        out.line(finish);
-        out.close();
-        out.line();
-    };
-    winFunction("PSC_DEVICE PSC_INLINE bool winConditionsHold(const Env& e)", "", [](int quantifier) {
-        return quantifier < 0 ? "if ((a & b).any()) return false;"
-               : quantifier > 0 ? "if (andNot(a, b).any()) return false;"
-                                : "if (!(a & b).any()) return false;";
+    winFunction(out, g, "PSC_DEVICE PSC_INLINE bool winConditionsHold(const Env& e)", "", [](const WinCondition& w) {
+        return w.quantifier < 0 ? "if ((a & b).any()) return false;"
+               : w.quantifier > 0 ? "if (andNot(a, b).any()) return false;"
+                                  : "if (!(a & b).any()) return false;";
     }, "return true;");
-    // Cells that break an `all` or `no` condition, plus one for each unmet `some`.
-    winFunction("PSC_DEVICE inline int winDistance(const Env& e)", "int distance = 0;", [](int quantifier) {
-        return quantifier < 0 ? "distance += (a & b).count();"
-               : quantifier > 0 ? "distance += andNot(a, b).count();"
-                                : "distance += (a & b).any() ? 0 : 1;";
-    }, "return distance;");
     out.close("  // namespace psc_game");
     out.line();
 }
@@ -574,6 +585,8 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     out.close("  // namespace psc_game");
     out.line();
     out.raw(templates::stateKey());
+    out.line();
+    emitWinDistance(out, game);
     return out.text();
 }
 

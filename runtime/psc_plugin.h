@@ -267,9 +267,10 @@ PSC_API int psc_expand(psc_batch* batch, int32_t template_env, const void* keys,
                        int32_t action_count, void* children, uint8_t* flags, uint64_t* hashes);
 
 /* An estimate of the inputs each key (host memory, on either backend) still
- * needs to win, from the game's win conditions: the cells that break an
- * `all` or `no` condition plus one for each unmet `some` condition; 0 when
- * they all hold.  Not a lower bound in general: one input may fix many cells. */
+ * needs to win, from the game's win conditions: the cells that break a `no`
+ * condition, and for `all X on Y` and `some X on Y` the Manhattan distances
+ * from the X not on a Y to the nearest Y; 0 when every condition holds.  Not
+ * a lower bound in general: one input may move many objects, or one far. */
 PSC_API int psc_estimate_distance(const psc_batch* batch, int32_t template_env, const void* keys, int32_t count,
                                   int32_t* estimates);
 

@@ -153,4 +153,51 @@ PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child)
     return static_cast<u8>((e.wins > 0 ? kExpandWon : 0) | (same ? kExpandUnchanged : 0) | (settled ? 0 : kExpandCutOff));
 }
 
+// ---- search's estimate of the inputs a state still needs (winDistance,
+// generated after this text from the win conditions): how many cells break
+// a `no` condition, and how far the objects of `all` and `some` conditions
+// are from what they must be on.  Not a lower bound: one input can move many
+// objects, or an object far.
+
+// Manhattan distance from position p to the nearest position of `to` (not empty).
+PSC_DEVICE inline int nearestDistance(const Env& e, int p, const Board& to) {
+    const int column = columnOf(e);
+    const int px = p / column;
+    const int py = p % column;
+    int best = 1 << 30;
+    PSC_FOR_VERTICAL(to, q) {
+        const int dx = q / column - px;
+        const int dy = q % column - py;
+        const int d = (dx < 0 ? -dx : dx) + (dy < 0 ? -dy : dy);
+        best = d < best ? d : best;
+    }
+    return best;
+}
+
+// Cells measured against each other at most: past this, a condition counts cells.
+constexpr int kMaxDistancePairs = 4096;
+
+// `all a on b`: each a not on b, its distance to the nearest b.
+PSC_DEVICE inline int distanceAllOn(const Env& e, const Board& a, const Board& b) {
+    const Board off = andNot(a, b);
+    const int n = off.count();
+    if (n == 0) return 0;
+    if (!b.any() || n * b.count() > kMaxDistancePairs) return n;
+    int sum = 0;
+    PSC_FOR_VERTICAL(off, p) sum += nearestDistance(e, p, b);
+    return sum;
+}
+
+// `some a on b`: 0 when one is, else the distance of the closest pair.
+PSC_DEVICE inline int distanceSomeOn(const Env& e, const Board& a, const Board& b) {
+    if ((a & b).any()) return 0;
+    if (!a.any() || !b.any() || a.count() * b.count() > kMaxDistancePairs) return 1;
+    int best = 1 << 30;
+    PSC_FOR_VERTICAL(a, p) {
+        const int d = nearestDistance(e, p, b);
+        best = d < best ? d : best;
+    }
+    return best;
+}
+
 }  // namespace psc_game

@@ -1,0 +1,118 @@
+#!/usr/bin/python3
+"""psc solve over every level of the benchmark games (bench/games, made by
+bench/extract_games.py), and the tables of docs/search.md.
+
+  bench/solve_report.py run --backend cpu --threads 2 --time-limit 30 --out R.jsonl [--algorithm A] [--games a,b]
+  bench/solve_report.py table R.jsonl [R2.jsonl ...]     per-game table, one column group per file
+  bench/solve_report.py levels R.jsonl [R2.jsonl ...]    per-level table
+
+`run` writes one JSON record per level (psc solve's, plus "game", "seed" and
+"time_limit") and prints progress; the records are what tools/verify_solutions.py
+checks in the original engine."""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+GAMES = ["sokoban", "match3", "limerick", "blocks", "slidings", "notsnake", "traveling", "zenpuzzle", "dictionary",
+         "takeheart", "kettle", "constellationz", "atlas"]
+# The PuzzleJAX paper's breadth-first search: levels solved within 1 M steps or one minute (of its 72).
+PAPER = {"sokoban": "2/2", "match3": "2/2", "limerick": "4/10", "blocks": "1/1", "slidings": "11/11", "notsnake": "0/1",
+         "traveling": "11/11", "zenpuzzle": "0/5", "dictionary": "1/1", "takeheart": "11/12", "kettle": "11/11",
+         "constellationz": "5/5", "atlas": "-"}
+
+
+def run(a):
+    games = a.games.split(",") if a.games else GAMES
+    with open(a.out, "w") as out:
+        for game in games:
+            path = os.path.join(a.game_dir, game + ".txt")
+            command = [a.psc, "solve", path, "--all-levels", "--format", "json", "--quiet", "--backend", a.backend,
+                       "--threads", str(a.threads), "--time-limit", str(a.time_limit), "--algorithm", a.algorithm]
+            done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            if done.returncode == 2:
+                print(f"{game}: error: {done.stderr.strip()[-500:]}", file=sys.stderr)
+                continue
+            records = [json.loads(line) for line in done.stdout.splitlines() if line.strip()]
+            for r in records:
+                r.update(game=game, seed=0, time_limit=a.time_limit)
+                out.write(json.dumps(r) + "\n")
+            solved = sum(r["status"] == "solved" for r in records)
+            print(f"{game}: {solved}/{len(records)} solved, {sum(r['seconds'] for r in records):.1f} s", flush=True)
+
+
+def load(path):
+    with open(path) as f:
+        return [json.loads(line) for line in f if line.strip()]
+
+
+def rate(records):
+    seconds = sum(r["seconds"] for r in records)
+    return sum(r["generated"] for r in records) / seconds if seconds else 0
+
+
+def table(a):
+    runs = [(p, load(p)) for p in a.files]
+    head = "| game | levels |" + "".join(f" {os.path.basename(p)}: solved | ≤ 10 s | children/s |" for p, _ in runs) + \
+        " PuzzleJAX BFS (paper) |"
+    print(head)
+    print("|---|---:|" + "---:|---:|---:|" * len(runs) + "---:|")
+    totals = [[0, 0] for _ in runs]
+    levels_total = 0
+    for game in GAMES:
+        row = f"| {game} |"
+        count = None
+        for k, (_, records) in enumerate(runs):
+            mine = [r for r in records if r["game"] == game]
+            count = len(mine) if count is None else count
+            solved = [r for r in mine if r["status"] == "solved"]
+            fast = [r for r in solved if r["seconds"] <= 10]
+            totals[k][0] += len(solved)
+            totals[k][1] += len(fast)
+            row += f" {len(solved)} | {len(fast)} | {rate(mine):,.0f} |"
+        levels_total += count or 0
+        print(row.replace(f"| {game} |", f"| {game} | {count} |", 1) + f" {PAPER[game]} |")
+    print(f"| **all** | {levels_total} |" + "".join(f" **{s}** | **{f}** | {rate(r):,.0f} |" for (s, f), (_, r) in zip(totals, runs))
+          + " 59/72 |")
+
+
+def levels(a):
+    runs = [(p, {(r["game"], r["level"]): r for r in load(p)}) for p in a.files]
+    print("| game | level |" + "".join(f" {os.path.basename(p)}: status | length | expanded | seconds |" for p, _ in runs))
+    print("|---|---:|" + "---|---:|---:|---:|" * len(runs))
+    keys = sorted({k for _, rs in runs for k in rs}, key=lambda k: (GAMES.index(k[0]), k[1]))
+    for key in keys:
+        row = f"| {key[0]} | {key[1]} |"
+        for _, rs in runs:
+            r = rs.get(key)
+            if not r:
+                row += " - | | | |"
+                continue
+            status = r["status"] if r["status"] != "limit" else f"limit ({r.get('limit')})"
+            row += f" {status} | {r['length'] if r['length'] is not None else ''} | {r['expanded']:,} | {r['seconds']:.2f} |"
+        print(row)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("run")
+    r.add_argument("--psc", default="build/cli/psc")
+    r.add_argument("--game-dir", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "games"))
+    r.add_argument("--games", default="")
+    r.add_argument("--backend", default="cpu")
+    r.add_argument("--threads", type=int, default=1)
+    r.add_argument("--time-limit", type=float, default=30)
+    r.add_argument("--algorithm", default="bfs")
+    r.add_argument("--out", required=True)
+    for name in ("table", "levels"):
+        t = sub.add_parser(name)
+        t.add_argument("files", nargs="+")
+    a = ap.parse_args()
+    {"run": run, "table": table, "levels": levels}[a.command](a)
+
+
+if __name__ == "__main__":
+    main()
