@@ -260,11 +260,12 @@ enum {
  * i * action_count + a is key i after input actions[a] (psc_action; undo has
  * no history to go back to), decoded over environment template_env, whose
  * state is left as it was.  Writes the children's keys, flags (PSC_EXPAND_*)
- * and, if hashes is not NULL, their hashes.  Pointers are host memory for
+ * and, where not NULL, their hashes and psc_estimate_distance's estimates
+ * (so that best-first search needs no second pass).  Pointers are host memory for
  * CPU batches; for CUDA batches device memory (psc_device_alloc), with the
  * work queued on the batch's stream (psc_synchronize waits for it). */
 PSC_API int psc_expand(psc_batch* batch, int32_t template_env, const void* keys, int32_t count, const int32_t* actions,
-                       int32_t action_count, void* children, uint8_t* flags, uint64_t* hashes);
+                       int32_t action_count, void* children, uint8_t* flags, uint64_t* hashes, int32_t* estimates);
 
 /* An estimate of the inputs each key (host memory, on either backend) still
  * needs to win, from the game's win conditions: the cells that break a `no`

@@ -1,8 +1,8 @@
 // Best-first search over the win-condition estimate (A*, weighted A*,
 // greedy): the open list is a binary heap on f, ties broken toward the
 // smaller estimate, then the older state.  A batch of the best states is
-// taken and expanded together, and the estimates of the new children are
-// computed together.  Children are tested for a win when generated, and a
+// taken and expanded together (the plugin estimates every child as it
+// expands it).  Children are tested for a win when generated, and a
 // state is reached once: a cheaper path found later is not taken (no
 // reopening).  Both keep weighted searches fast; with an estimate that is not
 // a lower bound optimality is not promised anyway (breadth-first promises it).
@@ -48,9 +48,9 @@ SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight) {
     std::vector<uint64_t> children(batch * inputs * words);
     std::vector<uint8_t> flags(batch * inputs);
     std::vector<uint64_t> hashes(batch * inputs);
+    std::vector<int32_t> estimates(batch * inputs);
     std::vector<uint32_t> fresh;
-    std::vector<uint64_t> freshKeys;
-    std::vector<int32_t> estimates;
+    std::vector<int32_t> freshEstimates;
     int deepest = 0;
     while (!open.empty()) {
         if (run.stopped()) return run.finish(Status::Limit);
@@ -64,11 +64,11 @@ SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight) {
             std::copy(key, key + words, keys.begin() + static_cast<std::ptrdiff_t>(i * words));
             deepest = std::max(deepest, static_cast<int>(run.store.depth(taken[i])));
         }
-        space.expand(keys.data(), taken.size(), children.data(), flags.data(), hashes.data());
+        space.expand(keys.data(), taken.size(), children.data(), flags.data(), hashes.data(), estimates.data());
         run.result.expanded += taken.size();
         run.result.generated += taken.size() * inputs;
         fresh.clear();
-        freshKeys.clear();
+        freshEstimates.clear();
         for (size_t c = 0; c < taken.size() * inputs; ++c) {
             if (flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");
             const uint32_t parent = taken[c / inputs];
@@ -80,12 +80,10 @@ SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight) {
             if (r == StateStore::Insert::Full) return run.finish(Status::Limit);
             if (r == StateStore::Insert::Known) continue;
             fresh.push_back(child);
-            freshKeys.insert(freshKeys.end(), &children[c * words], &children[c * words] + words);
+            freshEstimates.push_back(estimates[c]);
         }
-        estimates.resize(fresh.size());
-        if (!fresh.empty()) space.estimate(freshKeys.data(), fresh.size(), estimates.data());
         for (size_t i = 0; i < fresh.size(); ++i) {
-            open.push(Open{gWeight * run.store.depth(fresh[i]) + hWeight * estimates[i], estimates[i], fresh[i]});
+            open.push(Open{gWeight * run.store.depth(fresh[i]) + hWeight * freshEstimates[i], freshEstimates[i], fresh[i]});
         }
         run.reportProgress(deepest);
     }

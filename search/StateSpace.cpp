@@ -76,6 +76,7 @@ StateSpace::StateSpace(const Plugin& plugin, const SpaceOptions& options, int le
         check(plugin.deviceAlloc(batch_, children * keyWords_ * 8, &deviceChildren_), "allocating device memory");
         check(plugin.deviceAlloc(batch_, children, &deviceFlags_), "allocating device memory");
         check(plugin.deviceAlloc(batch_, children * 8, &deviceHashes_), "allocating device memory");
+        check(plugin.deviceAlloc(batch_, children * 4, &deviceEstimates_), "allocating device memory");
         check(plugin.deviceAlloc(batch_, inputs_.size() * 4, &deviceInputs_), "allocating device memory");
         check(plugin.copy(batch_, deviceInputs_, inputs_.data(), inputs_.size() * 4), "uploading the inputs");
     }
@@ -83,7 +84,7 @@ StateSpace::StateSpace(const Plugin& plugin, const SpaceOptions& options, int le
 
 StateSpace::~StateSpace() {
     if (!batch_) return;
-    for (void* p : {deviceKeys_, deviceChildren_, deviceFlags_, deviceHashes_, deviceInputs_}) {
+    for (void* p : {deviceKeys_, deviceChildren_, deviceFlags_, deviceHashes_, deviceEstimates_, deviceInputs_}) {
         if (p) plugin_.deviceFree(batch_, p);
     }
     plugin_.batchDestroy(batch_);
@@ -93,23 +94,55 @@ void StateSpace::check(int status, const char* what) const {
     if (status != PSC_OK) throw std::runtime_error(std::string(what) + ": " + plugin_.lastError());
 }
 
-void StateSpace::expand(const uint64_t* keys, size_t count, uint64_t* children, uint8_t* flags, uint64_t* hashes) {
+void StateSpace::expand(const uint64_t* keys, size_t count, uint64_t* children, uint8_t* flags, uint64_t* hashes,
+                        int32_t* estimates) {
     if (count > maxBatch_) throw std::logic_error("StateSpace::expand: more keys than maxBatch()");
     const int32_t n = static_cast<int32_t>(count);
     const int32_t a = static_cast<int32_t>(inputs_.size());
     if (options_.backend == Backend::Cpu) {
-        check(plugin_.expand(batch_, 0, keys, n, inputs_.data(), a, children, flags, hashes), "expanding states");
+        check(plugin_.expand(batch_, 0, keys, n, inputs_.data(), a, children, flags, hashes, estimates), "expanding states");
         return;
     }
     const size_t out = count * inputs_.size();
     check(plugin_.copy(batch_, deviceKeys_, keys, count * keyWords_ * 8), "uploading keys");
     check(plugin_.expand(batch_, 0, deviceKeys_, n, static_cast<const int32_t*>(deviceInputs_), a, deviceChildren_,
-                         static_cast<uint8_t*>(deviceFlags_), static_cast<uint64_t*>(deviceHashes_)),
+                         static_cast<uint8_t*>(deviceFlags_), static_cast<uint64_t*>(deviceHashes_),
+                         estimates ? static_cast<int32_t*>(deviceEstimates_) : nullptr),
           "expanding states");
     check(plugin_.copy(batch_, children, deviceChildren_, out * keyWords_ * 8), "reading children");
     check(plugin_.copy(batch_, flags, deviceFlags_, out), "reading children");
     check(plugin_.copy(batch_, hashes, deviceHashes_, out * 8), "reading children");
+    if (estimates) check(plugin_.copy(batch_, estimates, deviceEstimates_, out * 4), "reading children");
 }
+
+void StateSpace::stage(const uint64_t* keys, size_t count) {
+    if (count > maxBatch_) throw std::logic_error("StateSpace::stage: more keys than maxBatch()");
+    if (options_.backend == Backend::Cuda) {
+        check(plugin_.copy(batch_, deviceKeys_, keys, count * keyWords_ * 8), "uploading keys");
+        return;
+    }
+    stagedKeys_.assign(keys, keys + count * keyWords_);
+    stagedChildren_.resize(count * inputs_.size() * keyWords_);
+    stagedFlags_.resize(count * inputs_.size());
+    stagedHashes_.resize(count * inputs_.size());
+}
+
+void StateSpace::expandStaged(size_t count) {
+    const int32_t n = static_cast<int32_t>(count);
+    const int32_t a = static_cast<int32_t>(inputs_.size());
+    if (options_.backend == Backend::Cuda) {
+        check(plugin_.expand(batch_, 0, deviceKeys_, n, static_cast<const int32_t*>(deviceInputs_), a, deviceChildren_,
+                             static_cast<uint8_t*>(deviceFlags_), static_cast<uint64_t*>(deviceHashes_), nullptr),
+              "expanding states");
+        return;
+    }
+    if (count * keyWords_ > stagedKeys_.size()) throw std::logic_error("StateSpace::expandStaged: fewer keys staged");
+    check(plugin_.expand(batch_, 0, stagedKeys_.data(), n, inputs_.data(), a, stagedChildren_.data(), stagedFlags_.data(),
+                         stagedHashes_.data(), nullptr),
+          "expanding states");
+}
+
+void StateSpace::synchronize() { check(plugin_.synchronize(batch_), "waiting for the device"); }
 
 void StateSpace::estimate(const uint64_t* keys, size_t count, int32_t* estimates) {
     check(plugin_.estimateDistance(batch_, 0, keys, static_cast<int32_t>(count), estimates), "estimating distances");

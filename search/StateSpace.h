@@ -48,8 +48,15 @@ public:
     Backend backend() const { return options_.backend; }
 
     // Children of keys[0..count) (count <= maxBatch()): child i * inputs + a
-    // of key i under inputs()[a], with its flags (PSC_EXPAND_*) and hash.
-    void expand(const uint64_t* keys, size_t count, uint64_t* children, uint8_t* flags, uint64_t* hashes);
+    // of key i under inputs()[a], with its flags (PSC_EXPAND_*), hash and,
+    // where `estimates` is not null, its distance estimate.
+    void expand(const uint64_t* keys, size_t count, uint64_t* children, uint8_t* flags, uint64_t* hashes,
+                int32_t* estimates = nullptr);
+    // Expansion of keys left where the backend computes (device memory on the
+    // GPU), with the children kept there: expansion alone, for measuring it.
+    void stage(const uint64_t* keys, size_t count);
+    void expandStaged(size_t count);  // queued on the GPU; synchronize() waits
+    void synchronize();
     // psc_estimate_distance of keys[0..count).
     void estimate(const uint64_t* keys, size_t count, int32_t* estimates);
     // Whether playing `inputs` from the start (fromInputs included) wins the level at the last one and not before.
@@ -69,11 +76,15 @@ private:
     bool rootWon_ = false;
     int entry_ = 0;
     size_t maxBatch_ = 0;
+    // Buffers of staged expansion on the CPU.
+    std::vector<uint64_t> stagedKeys_, stagedChildren_, stagedHashes_;
+    std::vector<uint8_t> stagedFlags_;
     // Device buffers of a CUDA space (null on the CPU).
     void* deviceKeys_ = nullptr;
     void* deviceChildren_ = nullptr;
     void* deviceFlags_ = nullptr;
     void* deviceHashes_ = nullptr;
+    void* deviceEstimates_ = nullptr;
     void* deviceInputs_ = nullptr;
 };
 

@@ -157,7 +157,7 @@ extern "C" __global__ void psc_observe_kernel(psc_game::DeviceBatch b) {
 // decoded over a copy of the template environment (templates/state_key.h).
 extern "C" __global__ void psc_expand_kernel(psc_game::DeviceBatch b, int templateEnv, const unsigned long long* keys,
                                              int count, const int* actions, int actionCount, unsigned long long* children,
-                                             unsigned char* flags, unsigned long long* hashes) {
+                                             unsigned char* flags, unsigned long long* hashes, int* estimates) {
     using namespace psc_game;
     const long long k = static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x;
     if (k >= static_cast<long long>(count) * actionCount) return;
@@ -174,5 +174,6 @@ extern "C" __global__ void psc_expand_kernel(psc_game::DeviceBatch b, int templa
         }
         flags[k] = expandKey(e, parent, action, child);
         if (hashes) hashes[k] = hashKey(child);
+        if (estimates) estimates[k] = winDistance(e);
     }
 }

@@ -639,13 +639,13 @@ int psc_decode_state(psc_batch* batch, int32_t env, const void* key) {
 }
 
 int psc_expand(psc_batch* batch, int32_t template_env, const void* keys, int32_t count, const int32_t* actions,
-               int32_t action_count, void* children, uint8_t* flags, uint64_t* hashes) {
+               int32_t action_count, void* children, uint8_t* flags, uint64_t* hashes, int32_t* estimates) {
     using namespace psc_game;
     if (int s = checkEnv(batch, template_env)) return s;
     if (!keys || !actions || !children || !flags) return fail(PSC_ERROR_NULL_POINTER, "keys, actions, children and flags must not be NULL");
     if (count < 0 || action_count <= 0) return fail(PSC_ERROR_BAD_ARGUMENT, "count must not be negative and action_count must be positive");
     if (psc_cuda_owns(batch)) {
-        return psc_cuda_expand(batch, template_env, keys, count, actions, action_count, children, flags, hashes);
+        return psc_cuda_expand(batch, template_env, keys, count, actions, action_count, children, flags, hashes, estimates);
     }
     for (int32_t a = 0; a < action_count; ++a) {
         if (actions[a] < 0 || actions[a] >= kInputCount) {
@@ -670,6 +670,7 @@ int psc_expand(psc_batch* batch, int32_t template_env, const void* keys, int32_t
             u64* child = out + static_cast<size_t>(at) * kKeyWords;
             flags[at] = expandKey(*e, parents + static_cast<size_t>(at / action_count) * kKeyWords, actions[at % action_count], child);
             if (hashes) hashes[at] = hashKey(child);
+            if (estimates) estimates[at] = winDistance(*e);
         }
     });
     return PSC_OK;

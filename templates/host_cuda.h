@@ -226,7 +226,7 @@ static int psc_cuda_fetch_env(const psc_batch* b, int env, psc_game::Env* out);
 static int psc_cuda_read_state(const psc_batch* b, int env, psc_game::Env* out, std::vector<psc_game::Snapshot>& undo);
 static int psc_cuda_write_state(psc_batch* b, int env, const psc_game::Env& in, const std::vector<psc_game::Snapshot>& undo);
 static int psc_cuda_expand(psc_batch* b, int32_t templateEnv, const void* keys, int32_t count, const int32_t* actions,
-                           int32_t actionCount, void* children, uint8_t* flags, uint64_t* hashes);
+                           int32_t actionCount, void* children, uint8_t* flags, uint64_t* hashes, int32_t* estimates);
 static int psc_cuda_alloc(psc_batch* b, size_t bytes, void** pointer);
 static int psc_cuda_free(psc_batch* b, void* pointer);
 static int psc_cuda_copy(psc_batch* b, void* destination, const void* source, size_t bytes);

@@ -385,7 +385,7 @@ static int psc_cuda_write_state(psc_batch* b, int env, const psc_game::Env& in, 
 }
 
 static int psc_cuda_expand(psc_batch* b, int32_t templateEnv, const void* keys, int32_t count, const int32_t* actions,
-                           int32_t actionCount, void* children, uint8_t* flags, uint64_t* hashes) {
+                           int32_t actionCount, void* children, uint8_t* flags, uint64_t* hashes, int32_t* estimates) {
     using namespace psc_game;
     using namespace psc_game::cuda;
     if (kExpandTooLarge) {
@@ -397,7 +397,7 @@ static int psc_cuda_expand(psc_batch* b, int32_t templateEnv, const void* keys, 
     int n = static_cast<int>(pairs);
     Batch* cb = of(b);
     driver().cuCtxSetCurrent(cb->context);
-    void* args[] = {&cb->dev, &templateEnv, &keys, &count, &actions, &actionCount, &children, &flags, &hashes};
+    void* args[] = {&cb->dev, &templateEnv, &keys, &count, &actions, &actionCount, &children, &flags, &hashes, &estimates};
     return cb->launch(cb->expand, n, args);
 }
 

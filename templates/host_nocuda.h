@@ -29,7 +29,8 @@ static int psc_cuda_read_state(const psc_batch*, int, psc_game::Env*, std::vecto
 static int psc_cuda_write_state(psc_batch*, int, const psc_game::Env&, const std::vector<psc_game::Snapshot>&) {
     return PSC_ERROR_BACKEND_UNAVAILABLE;
 }
-static int psc_cuda_expand(psc_batch*, int32_t, const void*, int32_t, const int32_t*, int32_t, void*, uint8_t*, uint64_t*) {
+static int psc_cuda_expand(psc_batch*, int32_t, const void*, int32_t, const int32_t*, int32_t, void*, uint8_t*, uint64_t*,
+                           int32_t*) {
     return PSC_ERROR_BACKEND_UNAVAILABLE;
 }
 static int psc_cuda_alloc(psc_batch*, size_t, void**) { return PSC_ERROR_BACKEND_UNAVAILABLE; }

@@ -144,7 +144,7 @@ _PROTOTYPES = {
     "psc_dump_state": (c_int, [c_void_p, c_int32, c_void_p, c_size_t, POINTER(c_size_t)]),
     "psc_encode_states": (c_int, [c_void_p, c_void_p, c_int32, c_void_p, c_void_p]),
     "psc_decode_state": (c_int, [c_void_p, c_int32, c_void_p]),
-    "psc_expand": (c_int, [c_void_p, c_int32, c_void_p, c_int32, c_void_p, c_int32, c_void_p, c_void_p, c_void_p]),
+    "psc_expand": (c_int, [c_void_p, c_int32, c_void_p, c_int32, c_void_p, c_int32, c_void_p, c_void_p, c_void_p, c_void_p]),
     "psc_estimate_distance": (c_int, [c_void_p, c_int32, c_void_p, c_int32, c_void_p]),
     "psc_device_alloc": (c_int, [c_void_p, c_size_t, POINTER(c_void_p)]),
     "psc_device_free": (c_int, [c_void_p, c_void_p]),

@@ -170,7 +170,7 @@ class Batch:
 
     def expand(self, template_env: int, keys: np.ndarray, actions: Sequence[int]):
         """Children of host keys [n, key_bytes] under each action (CPU batches):
-        (children [n * len(actions), key_bytes], flags, hashes)."""
+        (children [n * len(actions), key_bytes], flags, hashes, estimates)."""
         keys = np.ascontiguousarray(keys, dtype=np.uint8)
         if keys.ndim != 2 or keys.shape[1] != self.key_bytes():
             raise ValueError(f"keys must have shape (n, {self.key_bytes()}), not {keys.shape}")
@@ -179,8 +179,16 @@ class Batch:
         children = np.zeros((n, self.key_bytes()), dtype=np.uint8)
         flags = np.zeros(n, dtype=np.uint8)
         hashes = np.zeros(n, dtype=np.uint64)
+        estimates = np.zeros(n, dtype=np.int32)
         status = self.lib.psc_expand(
             self.handle, template_env, keys.ctypes.data, keys.shape[0], action_array.ctypes.data, len(action_array),
-            children.ctypes.data, flags.ctypes.data, hashes.ctypes.data)
+            children.ctypes.data, flags.ctypes.data, hashes.ctypes.data, estimates.ctypes.data)
         self.check(status, "expanding states")
-        return children, flags, hashes
+        return children, flags, hashes, estimates
+
+    def estimate_distance(self, template_env: int, keys: np.ndarray) -> np.ndarray:
+        keys = np.ascontiguousarray(keys, dtype=np.uint8)
+        out = np.zeros(keys.shape[0], dtype=np.int32)
+        self.check(self.lib.psc_estimate_distance(self.handle, template_env, keys.ctypes.data, keys.shape[0], out.ctypes.data),
+                   "estimating distances")
+        return out
