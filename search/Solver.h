@@ -6,7 +6,8 @@
 //             solutions may be longer than the shortest);
 //   wastar    weighted A* (f = g + w h), for levels breadth-first cannot finish;
 //   greedy    greedy best-first (f = h, ties to the shallower);
-//   portfolio breadth-first for a sixth of the time, then weighted A*.
+//   portfolio breadth-first for a sixth of the time, greedy until half of
+//             it, then weighted A*.
 // docs/search.md gives the measurements behind these choices.
 #pragma once
 

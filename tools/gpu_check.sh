@@ -12,6 +12,10 @@
 #             compile units linked by the driver): a rollout and a few replays
 #   python    the Python package on the GPU: zero-copy views, CUDA tests, PPO
 #             (plugins prebuilt here into out/python-gpu, carried)
+#   expand    search's batched expansion on the GPU (psc bench --expand), every benchmark game's
+#             level 0 and sokoban's level 1, batch sweep
+#   solve     psc solve --backend cuda over every level of the benchmark games (bench/solve_report.py),
+#             SOLVE_ALGORITHM (default portfolio), SOLVE_SECONDS a level (default 60)
 # FAST_COMPILE sets psc's --fast-compile (compile, prebuild, bench, replay, sanitize);
 # GPU_STATE its --gpu-state (prebuild, bench, replay); GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
 # REPLAY_IDS (a file of case ids) limits it to some cases, REPLAY_SUITES to some suites,
@@ -128,6 +132,21 @@ for stage in "$@"; do
             2>&1 | tee "$out/python_test_cuda.txt" | tail -15
         $python examples/ppo.py --plugin out/python-gpu/sokoban.so --csv "$out/ppo_log.csv" \
             --time-limit "${PPO_SECONDS:-170}" 2>&1 | tee "$out/ppo.txt" | tail -8
+        ;;
+    expand)
+        mkdir -p "$out/expand"
+        for spec in ${EXPAND_LEVELS:-$(cd bench/games && ls *.txt | sed 's/.txt$/:0/') sokoban:1}; do
+            name=${spec%:*}
+            level=${spec#*:}
+            "$psc" bench "bench/games/$name.txt" --expand --level "$level" --backend cuda --batch "${EXPAND_BATCHES:-1024,16384,262144,1048576}" \
+                --repeats 5 --warmup 1 "${fast[@]}" > "$out/expand/$name.L$level.txt" 2>&1
+            echo "$name level $level: $(tail -1 "$out/expand/$name.L$level.txt")"
+        done
+        ;;
+    solve)
+        $python bench/solve_report.py run --psc "$psc" --backend cuda --time-limit "${SOLVE_SECONDS:-60}" \
+            --algorithm "${SOLVE_ALGORITHM:-portfolio}" ${SOLVE_GAMES:+--games "$SOLVE_GAMES"} \
+            --out "$out/solve_cuda_${SOLVE_ALGORITHM:-portfolio}.jsonl"
         ;;
     *) echo "unknown stage $stage"; exit 2 ;;
     esac
