@@ -4,6 +4,7 @@
 //   psc GAME.txt --emit ast|ir|cpp [--format text|json|reference]
 //   psc GAME.txt -o GAME.so                  build the step-function plugin
 //   psc replay CASE.json                     replay a corpus trace and compare every state
+//   psc play GAME.txt [--level N]            play the game in the terminal
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -14,6 +15,7 @@
 #include "CppSource.h"
 #include "Diagnose.h"
 #include "GameBuild.h"
+#include "Play.h"
 #include "Replay.h"
 #include "Solve.h"
 #include "SourceFile.h"
@@ -205,6 +207,22 @@ int main(int argc, char** argv) {
     solve->add_option("--gpu-state", solveOptions.build.gpuState, gpuStateHelp)->check(gpuStates);
     solve->add_flag("--verbose", solveOptions.build.build.verbose, "print the compiler command and cache use");
 
+    cli::PlayCommandOptions playOptions;
+    CLI::App* play = app.add_subcommand("play", "play the game in the terminal (arrows or WASD, X action, Z undo, R restart, Q quit)");
+    play->add_option("game", playOptions.gamePath, "the game")->required();
+    play->add_option("--level", playOptions.level, "start at this playable level (from 0) instead of the title screen");
+    play->add_flag("--glyphs", playOptions.glyphs, "draw levels with their legend glyphs, not sprites");
+    play->add_flag("--scripted", playOptions.scripted,
+                   "read keys from standard input (a pipe is fine); without a terminal, print what happens");
+    play->add_option("--replay", playOptions.replay, "animate these inputs first: u l d r x, z undo, ! restart, . tick");
+    play->add_option("--replay-file", playOptions.replayFile, "animate the inputs in this file first (as --record writes)");
+    play->add_option("--replay-interval", playOptions.replayInterval, "seconds between replayed inputs")
+        ->check(CLI::Range(0.0, 10.0));
+    play->add_option("--record", playOptions.recordPath, "write the inputs played to this file");
+    play->add_option("--seed", playOptions.seed, "the random seed of games that use random (default: from the clock)");
+    play->add_option("--hint-time-limit", playOptions.hintTimeLimit, "seconds the hint key's search may take")
+        ->check(CLI::Range(0.1, 3600.0));
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -213,6 +231,7 @@ int main(int argc, char** argv) {
         return status == 0 ? 0 : 2;
     }
 
+    if (*play) return cli::runPlay(playOptions);
     if (*bench) return cli::runBench(benchOptions);
     if (*solve) return cli::runSolve(solveOptions);
     if (*check) return runCheck(checkGame, checkCuda);

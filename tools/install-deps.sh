@@ -9,6 +9,7 @@ packages=(
   antlr4 libantlr4-runtime-dev default-jre-headless
   libfmt-dev libcli11-dev catch2 nlohmann-json3-dev
   python3 python3-numpy python3-pytest python3-pil
+  tmux
 )
 
 missing=()
