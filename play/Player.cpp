@@ -31,6 +31,8 @@ constexpr auto kEscapeWait = std::chrono::milliseconds(30);
 
 enum class Mode { Title, Game, LevelSelect };
 
+Clock::duration seconds(double s) { return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s)); }
+
 const char* inputName(char letter) {
     switch (letter) {
         case 'u': return "up";
@@ -91,6 +93,8 @@ private:
     void saveProgress();
     bool flag(uint32_t f) const { return (session_.info().flags & f) != 0; }
     bool realtimeActive() const;
+    // Ticks run on through inputs, as in the reference's front end.
+    Clock::duration tickInterval() const { return seconds(info_.realtime_interval); }
 
     int runInteractive();
     int runScripted();
@@ -158,7 +162,7 @@ void Player::startEntry(int entry) {
     session_.startEntry(entry);
     view_.resetCamera();
     mode_ = Mode::Game;
-    nextTick_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(info_.realtime_interval));
+    nextTick_ = Clock::now() + tickInterval();
     saveProgress();
 }
 
@@ -315,7 +319,7 @@ void Player::apply(int action) {
         record_.flush();
     }
     const StepReport report = session_.step(action);
-    nextTick_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(info_.realtime_interval));
+    if (action == PSC_ACTION_TICK) nextTick_ = Clock::now() + tickInterval();
     if (report.cutOff) note_ = "an endless `again` chain was cut off";
     if (report.won) {
         progress_.solved.insert(report.wonLevel);
@@ -421,14 +425,14 @@ std::string Player::statusLeft() const {
 }
 
 std::string Player::helpLine() const {
-    if (mode_ == Mode::Title) return "arrows select \u00b7 X start \u00b7 L level select \u00b7 Q quit";
-    if (mode_ == Mode::LevelSelect) return "arrows move \u00b7 X play \u00b7 Esc back \u00b7 Q quit";
-    if (session_.screen() == Screen::Message) return "X continue \u00b7 N/P level \u00b7 L levels \u00b7 Esc title \u00b7 Q quit";
-    std::string s = "arrows/WASD move";
+    if (mode_ == Mode::Title) return "Q quit \u00b7 arrows select \u00b7 X start \u00b7 L level select";
+    if (mode_ == Mode::LevelSelect) return "Q quit \u00b7 arrows move \u00b7 X play \u00b7 Esc back";
+    if (session_.screen() == Screen::Message) return "Q quit \u00b7 X continue \u00b7 L levels \u00b7 N/P next/previous \u00b7 Esc title";
+    std::string s = "Q quit \u00b7 arrows/WASD move";
     if (!flag(PSC_FLAG_NOACTION)) s += " \u00b7 X act";
     if (!flag(PSC_FLAG_NOUNDO)) s += " \u00b7 Z undo";
     if (!flag(PSC_FLAG_NORESTART)) s += " \u00b7 R restart";
-    return s + " \u00b7 H hint \u00b7 N/P level \u00b7 L levels \u00b7 Esc title \u00b7 Q quit";
+    return s + " \u00b7 H hint \u00b7 L levels \u00b7 N/P next/previous \u00b7 Esc title";
 }
 
 void Player::render() {
@@ -490,9 +494,14 @@ void Player::printFinalState() {
     if (!logMode_) return;
     logLine(statusLeft());
     if (mode_ != Mode::Game || session_.screen() != Screen::Level) return;
-    Canvas canvas(std::max(session_.width(), 60), session_.height() + 2);
+    // The level as a terminal of 100 x 50 would show it, without the blank rows around it.
+    Canvas canvas(100, std::min(session_.height(), 48) + 2);
     view_.draw(canvas, session_, Area{0, 0, canvas.columns(), canvas.rows()}, LevelStyle::Glyphs, ColorMode::None);
-    for (const std::string& row : canvas.plainRows()) logLine(row);
+    std::vector<std::string> rows = canvas.plainRows();
+    while (!rows.empty() && rows.back().empty()) rows.pop_back();
+    size_t first = 0;
+    while (first < rows.size() && rows[first].empty()) ++first;
+    for (size_t i = first; i < rows.size(); ++i) logLine(rows[i]);
 }
 
 // ---- the loops
@@ -535,7 +544,7 @@ int Player::runScripted() {
 
 int Player::runInteractive() {
     render();
-    nextReplay_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.replayInterval));
+    nextReplay_ = Clock::now() + seconds(options_.replayInterval);
     Clock::time_point lastByte = Clock::now();
     bool inputOpen = true;
     while (!quitting_) {
@@ -579,7 +588,7 @@ int Player::runInteractive() {
         }
         if (replaying_ && Clock::now() >= nextReplay_) {
             replayNext();
-            nextReplay_ += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.replayInterval));
+            nextReplay_ += seconds(options_.replayInterval);
             dirty = true;
         }
         if (realtimeActive() && Clock::now() >= nextTick_) {
