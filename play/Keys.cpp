@@ -4,26 +4,6 @@
 
 namespace psc::play {
 
-const char* keyName(Key key) {
-    switch (key) {
-        case Key::Up: return "up";
-        case Key::Left: return "left";
-        case Key::Down: return "down";
-        case Key::Right: return "right";
-        case Key::Action: return "action";
-        case Key::Undo: return "undo";
-        case Key::Restart: return "restart";
-        case Key::Back: return "back";
-        case Key::Quit: return "quit";
-        case Key::NextLevel: return "next level";
-        case Key::PreviousLevel: return "previous level";
-        case Key::LevelSelect: return "level select";
-        case Key::Hint: return "hint";
-        case Key::Interrupt: return "interrupt";
-    }
-    return "?";
-}
-
 namespace {
 
 std::optional<Key> characterKey(unsigned char c) {

@@ -21,8 +21,6 @@ enum class Key {
     Interrupt,              // Ctrl-C
 };
 
-const char* keyName(Key key);
-
 // Splits a byte stream into keys.  A lone Esc is told from the start of an
 // escape sequence by what follows it: call next(true) when no more bytes
 // came soon after (or the input ended), and it is taken as Esc.

@@ -130,7 +130,7 @@ Terminal::Terminal(int inputFd, int outputFd, bool fullScreen) : outputFd_(outpu
 }
 
 Terminal::~Terminal() {
-    restore();
+    restoreNow();
     for (int s : kStopSignals) ::signal(s, SIG_DFL);
     for (int s : kCrashSignals) ::signal(s, SIG_DFL);
     ::signal(SIGWINCH, SIG_DFL);
@@ -139,8 +139,6 @@ Terminal::~Terminal() {
     close(g.eventPipe[1]);
     g.eventPipe[0] = g.eventPipe[1] = -1;
 }
-
-void Terminal::restore() { restoreNow(); }
 
 TerminalSize Terminal::size() const {
     winsize ws{};

@@ -32,8 +32,6 @@ public:
     // A file descriptor that becomes readable when a signal arrived (for poll).
     int eventFd() const;
     TerminalEvents takeEvents();
-    // Puts the terminal back as it was (idempotent; also run by the destructor).
-    void restore();
 
 private:
     int outputFd_;

@@ -5,13 +5,14 @@ Usage: play_test.py PSC GAMES_DIR
 
 Covers: games/sokoban.txt's first level solved with arrow keys and on to the
 next level, the message screen before it, undo and restart, Q / Ctrl-C /
-SIGTERM leaving the terminal as it was (main screen, cursor, cooked mode),
+SIGTERM and a crash leaving the terminal as it was (main screen, cursor, cooked mode),
 progress kept between runs, a resize redrawing the level as glyphs, the hint
 key, and the --scripted, --replay, --record and bad-argument paths.
 """
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -89,7 +90,7 @@ class Pane:
         return False
 
     def run_psc_play(self, *args):
-        self.type_line("clear; %s play %s; echo EXIT=$?" % (PSC, " ".join(args)))
+        self.type_line("clear; ulimit -c 0; %s play %s; echo EXIT=$?" % (PSC, " ".join(args)))
 
     def exit_status(self, timeout=20):
         if not self.wait_for(lambda s: "EXIT=" in s, "psc play to exit", timeout):
@@ -115,8 +116,22 @@ def terminal_restored(pane, what):
           what + ": echo, icanon and isig are on again", pane.screen())
 
 
-def status_line(pane):
-    return pane.lines()[0]
+def children_running(parent, argument):
+    """The processes whose parent is `parent` and whose command line has `argument`."""
+    found = []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open("/proc/%s/stat" % entry) as f:
+                ppid = int(f.read().rsplit(")", 1)[1].split()[1])
+            with open("/proc/%s/cmdline" % entry, "rb") as f:
+                args = f.read().split(b"\0")
+        except (OSError, ValueError, IndexError):
+            continue
+        if ppid == parent and argument.encode() in args:
+            found.append(int(entry))
+    return found
 
 
 def level_rows(pane):
@@ -196,13 +211,20 @@ def main():
         check(pane.wait_for(lambda s: "Level select" in s and "1*" in s, "level select"), "L shows the level select, level 1 marked solved")
         pane.keys("Right", "Right", "Enter")
         check(pane.wait_for(lambda s: "level 3 of 3" in s.split("\n")[0], "level 3"), "the level select starts the chosen level")
-        pid = pane.format("#{pane_pid}")
-        children = subprocess.run(["pgrep", "-P", pid, "-f", "psc play"], capture_output=True, text=True).stdout.split()
+        children = children_running(int(pane.format("#{pane_pid}")), "play")
         check(len(children) == 1, "psc play runs in the pane's shell", str(children))
         if children:
-            subprocess.run(["kill", "-TERM", children[0]])
+            os.kill(children[0], signal.SIGTERM)
         check(pane.exit_status() == 143, "SIGTERM exits with status 143")
         terminal_restored(pane, "SIGTERM")
+
+        # A crash: the terminal is restored before the signal's default action.
+        pane.run_psc_play(SOKOBAN, "--level", "0")
+        pane.wait_for(lambda s: "level 1 of 3" in s.split("\n")[0], "level 1")
+        for child in children_running(int(pane.format("#{pane_pid}")), "play"):
+            os.kill(child, signal.SIGSEGV)
+        check(pane.exit_status() == 139, "SIGSEGV ends psc play with status 139")
+        terminal_restored(pane, "SIGSEGV")
     finally:
         pane.close()
 
