@@ -31,6 +31,7 @@ codegen::SourceOptions sourceOptions(const std::string& text, const std::string&
     so.target = options.target == "cpu" ? "cpu" : "cuda";
     so.gpuState = options.gpuState;
     so.cudaUnits = options.cudaUnits;
+    so.searchKernels = options.searchKernels;
     return so;
 }
 

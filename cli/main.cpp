@@ -139,6 +139,8 @@ int main(int argc, char** argv) {
     const char* cudaUnitsHelp = "CUDA compile units NVRTC compiles at once (memory layout); 0: by code size";
     app.add_option("--cuda-units", cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     app.add_flag("--verbose", verbose, "print the compiler command and cache use");
+    bool searchKernels = false;
+    app.add_flag("--search-kernels", searchKernels, "also compile search's GPU expansion kernel (psc_expand on CUDA batches)");
     app.add_flag("--native", native, "optimise the CPU code for this machine (-march=native)");
     std::vector<int> buildLevels;
     app.add_option("--levels", buildLevels, "build only these playable levels (numbered from 0); smaller plugins step faster")
@@ -238,6 +240,7 @@ int main(int argc, char** argv) {
         options.cuda.verbose = verbose;
         options.gpuState = gpuState;
         options.cudaUnits = cudaUnits;
+        options.searchKernels = searchKernels;
         return runBuild(game, output, options);
     }
     if (format == "reference" && emit != "ir") {
@@ -257,6 +260,7 @@ int main(int argc, char** argv) {
         gb.build.verbose = verbose;
         gb.gpuState = gpuState;
         gb.cudaUnits = cudaUnits;
+        gb.searchKernels = searchKernels;
         auto compiled = cli::compileForBuild(*source, game, gb);
         if (!compiled) return 1;
         if (emit == "cuda") {
