@@ -203,6 +203,7 @@ int main(int argc, char** argv) {
     solve->add_option("--format", solveOptions.format, "text, or json: one object per level and line")
         ->check(CLI::IsMember({"text", "json"}));
     solve->add_flag("--quiet", solveOptions.quiet, "no progress line");
+    solve->add_flag("--keep-going", solveOptions.build.keepGoing, "search games that have errors but that the reference engine still plays");
     solve->add_option("--fast-compile", solveOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     solve->add_option("--gpu-state", solveOptions.build.gpuState, gpuStateHelp)->check(gpuStates);
     solve->add_flag("--verbose", solveOptions.build.build.verbose, "print the compiler command and cache use");
