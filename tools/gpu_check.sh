@@ -12,6 +12,8 @@
 #             compile units linked by the driver): a rollout and a few replays
 #   python    the Python package on the GPU: zero-copy views, CUDA tests, PPO
 #             (plugins prebuilt here into out/python-gpu, carried)
+#   cpp       examples/cpp built against the installed psc in device/ (find_package): a CPU
+#             and a CUDA batch of sokoban stepped with the same actions must observe the same bytes
 # FAST_COMPILE sets psc's --fast-compile (compile, prebuild, bench, replay, sanitize);
 # GPU_STATE its --gpu-state (prebuild, bench, replay); GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
 # REPLAY_IDS (a file of case ids) limits it to some cases, REPLAY_SUITES to some suites,
@@ -128,6 +130,13 @@ for stage in "$@"; do
             2>&1 | tee "$out/python_test_cuda.txt" | tail -15
         $python examples/ppo.py --plugin out/python-gpu/sokoban.so --csv "$out/ppo_log.csv" \
             --time-limit "${PPO_SECONDS:-170}" 2>&1 | tee "$out/ppo.txt" | tail -8
+        ;;
+    cpp)
+        "$psc" games/sokoban.txt -o /tmp/sokoban-all.so --target all &&
+            cmake -S examples/cpp -B /tmp/psc-example -G Ninja -DCMAKE_PREFIX_PATH="$PWD/device" > /dev/null &&
+            cmake --build /tmp/psc-example > /dev/null &&
+            /tmp/psc-example/rollout /tmp/sokoban-all.so 1024 200 2>&1 | tee "$out/cpp_example.txt"
+        echo "cpp: exit $?"
         ;;
     *) echo "unknown stage $stage"; exit 2 ;;
     esac
