@@ -47,7 +47,13 @@ const LoadedNvrtc& nvrtcModule() {
     static const LoadedNvrtc loaded = [] {
         LoadedNvrtc l;
 #if PSC_HAVE_NVRTC
-        const std::string path = (fs::path(executableDir()) / kNvrtcModuleDir / kNvrtcModuleFile).lexically_normal().string();
+        const fs::path module = fs::path(executableDir()) / kNvrtcModuleDir / kNvrtcModuleFile;
+        const std::string path = module.lexically_normal().string();
+        std::error_code ec;
+        if (!fs::exists(path, ec)) {
+            l.problem = "psc's NVRTC module is not installed (" + path + ")";
+            return l;
+        }
         void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
         if (!handle) {
             l.problem = fmt::format("NVRTC cannot be loaded (the CUDA Toolkit's libraries are needed): {}", dlerror());

@@ -11,7 +11,9 @@ source or build tree):
     plugin, steps it and reads observations (on CUDA too where a GPU is);
   - the Python package installed with Debian's pip (pip install ./python, in
     a venv that sees Debian's numpy and setuptools, no index) finds that psc
-    on PATH, says so in `python3 -m psc --version`, and steps a VectorEnv.
+    on PATH, says so in `python3 -m psc --version`, and steps a VectorEnv;
+  - and, once, without the NVRTC module (as on a machine without the CUDA
+    Toolkit): psc still starts and builds CPU plugins.
 
     install_check.py --source SRC --build BUILD --cmake CMAKE --cpack CPACK [--cuda]
     (--cuda: the build has the NVRTC module, so the installed psc must load it)"""
@@ -35,7 +37,8 @@ class Failure(Exception):
 def run(command, what, cwd=None, env=None, timeout=300):
     done = subprocess.run([str(c) for c in command], cwd=cwd, env=env, capture_output=True, text=True, timeout=timeout)
     if done.returncode != 0:
-        raise Failure(f"{what} exited {done.returncode}: {' '.join(map(str, command))}\n{done.stdout[-2000:]}{done.stderr[-3000:]}")
+        output = done.stdout[-2000:] + done.stderr[-3000:]
+        raise Failure(f"{what} exited {done.returncode}: {' '.join(map(str, command))}\n{output}")
     return done.stdout
 
 
@@ -121,6 +124,21 @@ env.close()
     print(f"  python: pip-installed psc.VectorEnv stepped, observations {shape}")
 
 
+def check_without_cuda(prefix, work):
+    """Where the CUDA Toolkit's libraries cannot be loaded (the module gone stands in for them), psc
+    still starts, says why it builds no CUDA code, and builds CPU plugins by default."""
+    shutil.rmtree(prefix / "lib" / "psc", ignore_errors=True)
+    psc = prefix / "bin" / "psc"
+    version = run([psc, "--version"], "psc --version without NVRTC")
+    cuda = version.splitlines()[1]
+    expect(cuda.startswith("CUDA plugins: ") and "NVRTC available" not in cuda, f"psc --version printed {version!r}")
+    env = dict(os.environ, PSC_CACHE_DIR=str(work / "psc-cache"))
+    run([psc, "sokoban.txt", "-o", "sokoban-cpu.so"], "psc building a plugin without NVRTC", cwd=work, env=env)
+    out = run([work / "example" / "rollout", "sokoban-cpu.so", "2", "5"], "examples/cpp without NVRTC", cwd=work)
+    expect("cuda: not built into this plugin" in out, f"the plugin built without NVRTC has CUDA code:\n{out}")
+    print(f"  without NVRTC: {cuda}; CPU plugin built and stepped")
+
+
 def check_prefix(label, prefix, args, python_source, work):
     print(f"{label}: {prefix}")
     shutil.copy(args.source / GAME, work)
@@ -138,7 +156,7 @@ def deb_package(args, tmp):
     expect(len(debs) == 1, f"cpack made {[d.name for d in debs]}")
     depends = run(["dpkg-deb", "-f", debs[0], "Depends"], "dpkg-deb -f").strip()
     for package in ("libc6", "libstdc++6", "libfmt", "libantlr4-runtime", "g++"):
-        expect(re.search(rf"(^|, ){re.escape(package)}", depends), f"{debs[0].name} does not depend on {package}: {depends}")
+        expect(re.search(rf"(^|, ){re.escape(package)}", depends), f"{debs[0].name} lacks {package}: {depends}")
     root = tmp / "deb-root"
     run(["dpkg", "-x", debs[0], root], "dpkg -x")
     print(f"{debs[0].name}: Depends: {depends}")
@@ -169,7 +187,9 @@ def main():
             deb_prefix = deb_package(args, tmp)
             work = tmp / "debian"
             work.mkdir()
-            check_prefix("dpkg -x", relocated(deb_prefix, work), args, python_source, work)
+            prefix = relocated(deb_prefix, work)
+            check_prefix("dpkg -x", prefix, args, python_source, work)
+            check_without_cuda(prefix, work)
         except (Failure, subprocess.TimeoutExpired) as failure:
             print(f"FAIL: {failure}")
             return 1
