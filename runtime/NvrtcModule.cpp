@@ -1,7 +1,7 @@
 // The NVRTC module (NvrtcModule.h): compiles CUDA source in process with
 // NVRTC, each compile unit on its own thread, and links the units with
-// nvJitLink.  Built as a shared module that links the CUDA libraries, which
-// psc loads when it needs them.
+// nvJitLink.  The only part of psc that links the CUDA libraries; psc loads
+// it with dlopen.
 #include "NvrtcModule.h"
 
 #include <fmt/format.h>
