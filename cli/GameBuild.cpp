@@ -116,8 +116,8 @@ std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const s
         if (files) *files = deviceCodeFiles(r, cubinPath, ptxPath);
         return r;
     }
-    if (!cudaCompilerAvailable(options.cuda.compiler)) {
-        fmt::print(stderr, "{}: error: the CUDA compiler {} is not available\n", path, options.cuda.compiler);
+    if (const std::string problem = cudaCompilerProblem(options.cuda.compiler); !problem.empty()) {
+        fmt::print(stderr, "{}: error: the CUDA compiler {} is not available: {}\n", path, options.cuda.compiler, problem);
         return std::nullopt;
     }
     CudaCompileResult r = compileCuda(source, sha1Hex(text).substr(0, 12), options.cuda);

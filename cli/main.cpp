@@ -4,11 +4,13 @@
 //   psc GAME.txt --emit ast|ir|cpp [--format text|json|reference]
 //   psc GAME.txt -o GAME.so                  build the step-function plugin
 //   psc replay CASE.json                     replay a corpus trace and compare every state
+//   psc --version                            the version, and whether CUDA plugins can be built
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 
 #include "Bench.h"
 #include "CppSource.h"
@@ -41,8 +43,8 @@ int runCheck(const std::string& path, bool cuda) {
     cli::GameBuildOptions gb;
     gb.target = "cuda";
     gb.cuda.syntaxOnly = true;
-    if (!cudaCompilerAvailable(gb.cuda.compiler)) {
-        fmt::print(stderr, "{}: error: NVRTC is not available\n", path);
+    if (const std::string problem = cudaCompilerProblem(gb.cuda.compiler); !problem.empty()) {
+        fmt::print(stderr, "{}: error: {}\n", path, problem);
         return 1;
     }
     const CudaCompileResult r = compileCuda(codegen::cudaSource(*result.game, cli::sourceOptions(*source, path, gb)), "check", gb.cuda);
@@ -109,6 +111,10 @@ int runBuild(const std::string& path, const std::string& output, const cli::Game
 int main(int argc, char** argv) {
     CLI::App app{"psc: compiles PuzzleScript games into step-function plugins"};
     app.require_subcommand(0, 1);
+    app.set_version_flag("--version", std::function<std::string()>([] {
+        const std::string cuda = cudaCompilerProblem("nvrtc");
+        return fmt::format("psc {}\nCUDA plugins: {}", PSC_VERSION, cuda.empty() ? "NVRTC available" : cuda);
+    }), "print the version, and whether CUDA plugins can be built, and exit");
 
     std::string game;
     std::string emit;
