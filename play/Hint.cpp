@@ -31,7 +31,8 @@ bool HintSearch::start(const HintRequest& request, std::string* problem) {
                                      "--level", std::to_string(request.level),
                                      "--seed", std::to_string(request.seed),
                                      "--time-limit", fmt::format("{}", request.timeLimit),
-                                     "--format", "json", "--quiet"};
+                                     "--format", "json", "--quiet",
+                                     "--keep-going"};  // psc play plays games the reference plays despite errors
     if (!request.fromInputs.empty()) {
         args.push_back("--from-inputs");
         args.push_back(request.fromInputs);
