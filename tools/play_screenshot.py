@@ -33,7 +33,9 @@ def capture(psc, args, keys, colour):
     tmux("new-session", "-d", "-s", "shot", "-x", str(COLUMNS), "-y", str(ROWS), "-e",
          "XDG_STATE_HOME=" + env["XDG_STATE_HOME"], "-e", "COLORTERM=truecolor", command)
     try:
-        time.sleep(3)  # the first start may build the plugin
+        deadline = time.time() + 120  # the first start may build the plugin
+        while "level 3 of 3" not in tmux("capture-pane", "-p", "-t", "shot") and time.time() < deadline:
+            time.sleep(0.1)
         for key in keys:
             tmux("send-keys", "-t", "shot", key)
             time.sleep(0.1)
@@ -41,6 +43,9 @@ def capture(psc, args, keys, colour):
         return tmux("capture-pane", "-p", *(["-e", "-N"] if colour else []), "-t", "shot")
     finally:
         tmux("kill-server")
+        socket = os.path.join(os.environ.get("TMUX_TMPDIR", "/tmp"), "tmux-%d" % os.getuid(), SOCKET)
+        if os.path.exists(socket):
+            os.remove(socket)
 
 
 def xterm256(n):

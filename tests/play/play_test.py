@@ -102,6 +102,9 @@ class Pane:
 
     def close(self):
         tmux("kill-server", check_status=False)
+        socket = os.path.join(os.environ.get("TMUX_TMPDIR", "/tmp"), "tmux-%d" % os.getuid(), SOCKET)
+        if os.path.exists(socket):
+            os.remove(socket)
 
 
 def terminal_restored(pane, what):
