@@ -2,7 +2,8 @@
 //
 // At start-up the target builds the CPU plugins of a few games
 // ($PSC_FUZZ_GAMES, colon-separated; default games/sokoban, rigid and ice of
-// the source tree) with psc's own pipeline and loads them.  Each input is a
+// the source tree) with psc's own pipeline and loads them, or loads the
+// plugins $PSC_FUZZ_PLUGINS names.  Each input is a
 // program: its first byte picks the plugin, then each operation byte picks an
 // ABI call whose arguments come from the bytes after it: batches created with
 // any options, resets with any level, seed or entry, steps with any action,
@@ -71,6 +72,22 @@ std::string readFile(const std::string& path) {
     return ss.str();
 }
 
+LoadedGame loadPlugin(const std::string& pluginPath, const std::string& name) {
+    std::string error;
+    LoadedGame g;
+    g.plugin = Plugin::open(pluginPath, &error);
+    if (!g.plugin) die(error);
+    // A second reference to the library Plugin holds, for the functions it does not load.
+    void* handle = dlopen(pluginPath.c_str(), RTLD_NOW | RTLD_NOLOAD);
+    if (!handle) die("cannot reopen " + pluginPath);
+    g.extra.batchSize = reinterpret_cast<decltype(&psc_batch_size)>(dlsym(handle, "psc_batch_size"));
+    g.extra.stepMany = reinterpret_cast<decltype(&psc_step_many)>(dlsym(handle, "psc_step_many"));
+    if (!g.extra.batchSize || !g.extra.stepMany) die(pluginPath + " lacks psc_batch_size or psc_step_many");
+    g.name = name;
+    std::fprintf(stderr, "plugin_abi_fuzzer: %s -> %s\n", name.c_str(), pluginPath.c_str());
+    return g;
+}
+
 LoadedGame buildGame(const std::string& path) {
     const std::string text = readFile(path);
     psc::CompileResult compiled = psc::compileSource(text);
@@ -81,19 +98,7 @@ LoadedGame buildGame(const std::string& path) {
     psc::BuildOptions build;
     const psc::BuildResult built = psc::buildCpuPlugin(psc::codegen::cpuPluginSource(*compiled.game, so), build);
     if (!built.ok) die("building the plugin of " + path + " failed:\n" + built.log);
-    std::string error;
-    LoadedGame g;
-    g.plugin = Plugin::open(built.pluginPath, &error);
-    if (!g.plugin) die(error);
-    // A second reference to the library Plugin holds, for the functions it does not load.
-    void* handle = dlopen(built.pluginPath.c_str(), RTLD_NOW | RTLD_NOLOAD);
-    if (!handle) die("cannot reopen " + built.pluginPath);
-    g.extra.batchSize = reinterpret_cast<decltype(&psc_batch_size)>(dlsym(handle, "psc_batch_size"));
-    g.extra.stepMany = reinterpret_cast<decltype(&psc_step_many)>(dlsym(handle, "psc_step_many"));
-    if (!g.extra.batchSize || !g.extra.stepMany) die(built.pluginPath + " lacks psc_batch_size or psc_step_many");
-    g.name = path;
-    std::fprintf(stderr, "plugin_abi_fuzzer: %s -> %s\n", path.c_str(), built.pluginPath.c_str());
-    return g;
+    return loadPlugin(built.pluginPath, path);
 }
 
 // Memory that ends at an inaccessible page: the plugin may use exactly
@@ -399,13 +404,10 @@ struct Session {
     }
 };
 
-std::vector<std::string> gamePaths() {
+std::vector<std::string> pathList(const char* variable, const std::string& fallback) {
     std::vector<std::string> paths;
-    const char* list = std::getenv("PSC_FUZZ_GAMES");
-    std::string all = list && *list ? list
-                                    : std::string(PSC_SOURCE_DIR "/games/sokoban.txt:" PSC_SOURCE_DIR
-                                                  "/games/rigid.txt:" PSC_SOURCE_DIR "/games/ice.txt");
-    std::stringstream ss(all);
+    const char* list = std::getenv(variable);
+    std::stringstream ss(list && *list ? std::string(list) : fallback);
     for (std::string p; std::getline(ss, p, ':');) {
         if (!p.empty()) paths.push_back(p);
     }
@@ -414,8 +416,14 @@ std::vector<std::string> gamePaths() {
 
 }  // namespace
 
+// $PSC_FUZZ_PLUGINS (colon-separated plugins built elsewhere) skips the build.
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-    for (const auto& path : gamePaths()) games().push_back(buildGame(path));
+    for (const auto& plugin : pathList("PSC_FUZZ_PLUGINS", "")) games().push_back(loadPlugin(plugin, plugin));
+    if (games().empty()) {
+        const std::string defaults = PSC_SOURCE_DIR "/games/sokoban.txt:" PSC_SOURCE_DIR "/games/rigid.txt:" PSC_SOURCE_DIR
+                                                    "/games/ice.txt";
+        for (const auto& path : pathList("PSC_FUZZ_GAMES", defaults)) games().push_back(buildGame(path));
+    }
     if (games().empty()) die("no games");
     return 0;
 }

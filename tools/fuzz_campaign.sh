@@ -47,7 +47,7 @@ for target in "${targets[@]}"; do
   seeds=$work/seeds/$target
   mkdir -p "$findings" "$generated" "$regressions"
   # The same limits for replays and fresh runs: an input over them is a finding.
-  limits=(-timeout=10 -rss_limit_mb=4096 -max_len=65536)
+  limits=(-timeout=30 -rss_limit_mb=4096 -max_len=65536)
 
   inputs=("$regressions"/*)
   if [ -e "${inputs[0]}" ]; then
