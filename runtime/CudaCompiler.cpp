@@ -1,5 +1,7 @@
 #include "CudaCompiler.h"
 
+#include "ChildProcess.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -92,18 +94,33 @@ bool nvccCompile(const std::string& source, const std::string& name, const CudaC
         std::ofstream out(cu);
         out << source;
     }
-    const std::string common = std::string("-std=c++17 -Xptxas=-v -DPSC_CUDA=1") +
-                               (options.fastCompile != "0" ? " -Ofc=" + options.fastCompile : "");
-    const std::string cubinCmd = fmt::format("{} {} -cubin -arch=sm_{} -o '{}' '{}'", nvccPath(), common, arch,
-                                             (dir / "out.cubin").string(), cu.string());
-    const std::string ptxCmd = fmt::format("{} {} -ptx -arch=compute_{} -o '{}' '{}'", nvccPath(), common, arch,
-                                           (dir / "out.ptx").string(), cu.string());
-    r.options = {cubinCmd, ptxCmd};
+    std::vector<std::string> common = {"-std=c++17", "-Xptxas=-v", "-DPSC_CUDA=1"};
+    if (options.fastCompile != "0") common.push_back("-Ofc=" + options.fastCompile);
+    auto command = [&](const std::string& kind, const std::string& arch, const std::string& output) {
+        std::vector<std::string> argv = {nvccPath()};
+        argv.insert(argv.end(), common.begin(), common.end());
+        for (const auto& a : {kind, arch, std::string("-o"), (dir / output).string(), cu.string()}) argv.push_back(a);
+        return argv;
+    };
+    const auto cubinCmd = command("-cubin", fmt::format("-arch=sm_{}", arch), "out.cubin");
+    const auto ptxCmd = command("-ptx", fmt::format("-arch=compute_{}", arch), "out.ptx");
+    auto joined = [](const std::vector<std::string>& argv) {
+        std::string line;
+        for (const auto& a : argv) line += (line.empty() ? "" : " ") + a;
+        return line;
+    };
+    r.options = {joined(cubinCmd), joined(ptxCmd)};
+    const ChildLimits limits = defaultCompileLimits();
     bool ok = true;
     for (const auto& cmd : {cubinCmd, ptxCmd}) {
+        if (!ok) break;
         const std::string logFile = (dir / "log.txt").string();
-        ok = ok && std::system((cmd + " > '" + logFile + "' 2>&1").c_str()) == 0;
-        r.log += readAll(logFile);
+        const ChildResult child = runChild(cmd, logFile, limits);
+        const std::string log = readAll(logFile);
+        if (const std::string limit = limitMessage(child, limits, log); !limit.empty()) r.log += "nvcc " + limit + "\n";
+        if (!child.error.empty()) r.log += child.error + "\n";
+        r.log += log;
+        ok = child.ok();
     }
     if (ok) {
         const std::string cubin = readAll(dir / "out.cubin");
@@ -253,10 +270,7 @@ size_t stackBound(const std::string& log, const std::vector<std::string>& ptx) {
 bool cudaCompilerAvailable(const std::string& compiler) { return cudaCompilerProblem(compiler).empty(); }
 
 std::string cudaCompilerProblem(const std::string& compiler) {
-    if (compiler == "nvcc") {
-        const bool found = fs::exists(nvccPath()) || std::system("command -v nvcc > /dev/null 2>&1") == 0;
-        return found ? "" : "nvcc is not installed";
-    }
+    if (compiler == "nvcc") return findProgram(nvccPath()).empty() ? "nvcc is not installed" : "";
     if (compiler == "nvrtc") return nvrtcModule().problem;
     return "unknown CUDA compiler " + compiler;
 }
