@@ -36,10 +36,7 @@ OK, NULL, ABI, BAD_ARG, BAD_ENV, BAD_LEVEL, BAD_ACTION, BAD_STATE, SMALL, UNAVAI
 INT32_MAX, INT32_MIN = 2**31 - 1, -(2**31)
 
 # Cases that fail today, by name; see docs/robustness.md ("Open findings").
-KNOWN_BUGS = {
-    "batch_create with more threads than the system gives",
-    "load_state of a state whose header is valid and whose body is not",
-}
+KNOWN_BUGS = set()
 
 FAILURES = []
 XFAILS = []
