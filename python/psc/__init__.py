@@ -5,6 +5,7 @@ from .plugin import GameInfo, Plugin, PscError
 from .render import render_planes, save_gif
 from .solve import SolveError, solve
 from .vector_env import Buffers, EnvState, VectorEnv
+from .agents.text_env import TextEnv, TextVectorEnv
 
 __all__ = [
     "Buffers",
@@ -13,6 +14,8 @@ __all__ = [
     "GameInfo",
     "Plugin",
     "PscError",
+    "TextEnv",
+    "TextVectorEnv",
     "VectorEnv",
     "compile",
     "emit_ir",

@@ -1,7 +1,7 @@
 """python3 -m psc build GAME.txt -o OUT.so [--target cpu|cuda|all] [--levels 0,1]
 
-Builds a plugin and writes it with its IR (OUT.ir.json, for shaped rewards),
-ready to copy to a machine that has no psc compiler.
+Builds a plugin and writes it with its IR (OUT.ir.json, for shaped rewards)
+and its source (OUT.source.txt, for text agents), ready to copy to a machine that has no psc compiler.
 """
 
 import argparse
@@ -9,7 +9,7 @@ import os
 import shutil
 import sys
 
-from .build import TARGETS, compile, ir_path_for
+from .build import TARGETS, compile, ir_path_for, source_path_for
 
 
 def main(argv=None) -> int:
@@ -29,7 +29,8 @@ def main(argv=None) -> int:
     os.makedirs(os.path.dirname(os.path.abspath(args.output)), exist_ok=True)
     shutil.copyfile(plugin, args.output)
     shutil.copyfile(ir_path_for(plugin), ir_path_for(args.output))
-    print(f"{args.output}\n{ir_path_for(args.output)}")
+    shutil.copyfile(source_path_for(plugin), source_path_for(args.output))
+    print(f"{args.output}\n{ir_path_for(args.output)}\n{source_path_for(args.output)}")
     return 0
 
 
