@@ -174,14 +174,29 @@ def test_comment_stripping_nests_and_spans_lines():
     assert game_text.strip_comments("a (b (c) d) e\n(x\ny) z") == "a  e\n\n z"
 
 
-def test_glyph_cells_add_the_background_as_levels_do():
-    ir = psc.emit_ir(GAMES / "sokoban.txt")
-    cells = game_text.glyph_cells(ir)
+def test_glyphs_stand_for_their_objects_with_the_levels_background():
+    with psc.TextEnv(GAMES / "sokoban.txt") as env:
+        cells = env.game.glyph_cells(0)
     assert cells["@"] == {"background", "crate", "target"}
-    assert cells["."] == {"background"}
+    assert cells["."] == {"background"} and cells["P"] == {"background", "player"}
     # The IR's own level cells agree with the glyphs written in the source (level 0, row 2: "#.*O..#").
-    row = ir["levels"]["entries"][1]["rows"][2]
-    assert [frozenset(cell) for cell in row] == [cells[c] for c in "#.*o..#"]
+    row = psc.emit_ir(GAMES / "sokoban.txt")["levels"]["entries"][1]["rows"][2]
+    assert [frozenset(cell) for cell in row] == [cells[c] for c in "#.*O..#"]
+
+
+def test_a_glyph_without_background_gets_the_levels_own(tmp_path):
+    # As levels load: the first cell (column by column) with a background-layer object fills the others.
+    source = (GAMES / "sokoban.txt").read_text()
+    source = source.replace("Background\n#2e2e2e", "Background\n#2e2e2e\n\nGrass\ngreen")
+    source = source.replace(". = Background", ". = Background\n, = Grass")
+    source = source.replace("Background\nTarget\n", "Background, Grass\nTarget\n")
+    source = source.replace("#######\n#.....#\n#.*O..#", ",######\n#.....#\n#.*O..#")
+    game_file = tmp_path / "grass.txt"
+    game_file.write_text(source)
+    # Background shares its layer with Grass: an error the reference engine plays through.
+    game = game_text.make_game_text(source, psc.emit_ir(game_file, keep_going=True), 0, ())
+    assert game.level_fills[0] == {"grass"} and game.level_fills[1] == {"background"}
+    assert game.glyph_cells(0)["#"] == {"grass", "wall"} and game.glyph_cells(1)["#"] == {"background", "wall"}
 
 
 def test_reply_parsing():

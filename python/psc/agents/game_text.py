@@ -53,9 +53,10 @@ def strip_comments(source: str) -> str:
     return "".join(out)
 
 
-def split_sections(source: str) -> Dict[str, List[str]]:
+def split_sections(source: str, keep_blank: bool = False) -> Dict[str, List[str]]:
     """The comment-free lines of each section (a section starts at a line that
-    is only its name, any case); separator lines of '=' and blank lines are dropped."""
+    is only its name, any case); separator lines of '=' are dropped, and blank
+    lines unless keep_blank (they separate levels)."""
     sections: Dict[str, List[str]] = {"prelude": []}
     current = "prelude"
     for raw in strip_comments(source).splitlines():
@@ -65,32 +66,63 @@ def split_sections(source: str) -> Dict[str, List[str]]:
             current = word
             sections.setdefault(current, [])
             continue
-        if not word or set(word) == {"="}:
+        if (not word and not keep_blank) or (word and set(word) == {"="}):
             continue
         sections.setdefault(current, []).append(line)
     return sections
 
 
-def background_layer(ir: Mapping) -> Tuple[str, int]:
-    background = ir["background"]
-    return background["name"], int(background["layer"])
+def background_objects(ir: Mapping) -> FrozenSet[str]:
+    """The objects of the background's collision layer."""
+    layer = ir["background"]["layer"]
+    return frozenset(o["name"] for o in ir["objects"] if o["layer"] == layer and layer is not None)
 
 
-def glyph_cells(ir: Mapping) -> Dict[str, FrozenSet[str]]:
-    """Each one-character legend glyph (lower case) and the objects of a level
-    cell written with it: its objects, plus the background object when none of
-    them is in the background's collision layer (as levels are loaded)."""
-    name, layer = background_layer(ir)
-    layer_of = {o["name"]: int(o["layer"]) for o in ir["objects"]}
-    cells = {}
-    for glyph, objects in ir["legend"]["glyphs"].items():
-        if len(glyph) != 1 or glyph.isspace():
-            continue
-        cell = set(objects)
-        if not any(layer_of.get(o) == layer for o in cell):
-            cell.add(name)
-        cells[glyph] = frozenset(cell)
-    return cells
+def written_levels(sections: Mapping[str, Sequence[str]]) -> List[Optional[List[str]]]:
+    """The LEVELS section's entries as written: None for a message, else the
+    rows (lower case; levels are separated by blank lines or messages)."""
+    entries: List[Optional[List[str]]] = []
+    rows: List[str] = []
+    for line in sections.get("levels", []) + [""]:
+        text = line.strip()
+        if text.lower().startswith("message") and (len(text) == 7 or text[7].isspace()):
+            if rows:
+                entries.append(rows)
+                rows = []
+            entries.append(None)
+        elif text:
+            rows.append(text.lower())
+        elif rows:
+            entries.append(rows)
+            rows = []
+    return entries
+
+
+def level_fills(ir: Mapping, sections: Mapping[str, Sequence[str]]) -> Tuple[FrozenSet[str], ...]:
+    """What each playable level puts under a glyph that has nothing in the
+    background's layer: the background-layer objects of the level's first
+    cell (column by column, as levels are loaded) whose glyph has some, else
+    the background object.  Levels of the source that do not line up with the
+    IR's get the background object."""
+    glyphs = ir["legend"]["glyphs"]
+    background = background_objects(ir)
+    default = frozenset([ir["background"]["name"]])
+    written = [rows for rows in written_levels(sections) if rows is not None]
+    loaded = [entry for entry in ir["levels"]["entries"] if entry["kind"] == "level"]
+    fills = []
+    for i, entry in enumerate(loaded):
+        rows = written[i] if len(written) == len(loaded) else None
+        fill = default
+        if rows and len(rows) == entry["height"]:
+            width = max(len(row) for row in rows)
+            cells = ((x, row) for x in range(width) for row in rows)
+            for x, row in cells:
+                objects = background.intersection(glyphs.get(row[x] if x < len(row) else row[-1], ()))
+                if objects:
+                    fill = frozenset(objects)
+                    break
+        fills.append(fill)
+    return tuple(fills)
 
 
 @dataclass(frozen=True)
@@ -104,11 +136,27 @@ class GameText:
     win_conditions: Tuple[str, ...]  # WINCONDITIONS lines
     legend: Tuple[str, ...]  # LEGEND lines (the names the rules use)
     object_order: Tuple[str, ...]  # object names by collision layer: the order of a cell's objects in text
-    glyph_of_cell: Mapping[FrozenSet[str], str]  # a cell's objects -> the game's glyph for exactly them
+    glyphs: Tuple[Tuple[str, FrozenSet[str]], ...]  # (glyph as written, its objects), preferred first
+    background: FrozenSet[str]  # the objects of the background's layer
+    level_fills: Tuple[FrozenSet[str], ...]  # per playable level: what a glyph without background gets
+    default_fill: FrozenSet[str]  # the background object
     reserved: FrozenSet[str]  # every legend glyph, both cases: never used for generated symbols
-    level_cells: Tuple[FrozenSet[str], ...]  # cell object sets of all levels as written, first appearance order
+    level_cells: Tuple[FrozenSet[str], ...]  # cell object sets of all levels as loaded, first appearance order
     actions: Tuple[str, ...]  # the actions offered to agents, in psc_action order
     flags: int
+
+    def glyph_cells(self, level: Optional[int]) -> Dict[str, FrozenSet[str]]:
+        """Each glyph (as written) and the objects of a cell written with it in
+        playable level `level` (None: with the background object as fill)."""
+        fill = self.level_fills[level] if level is not None and level < len(self.level_fills) else self.default_fill
+        return {glyph: objects if objects & self.background else objects | fill for glyph, objects in self.glyphs}
+
+    def glyph_table(self, level: Optional[int]) -> Dict[FrozenSet[str], str]:
+        """A cell's objects -> the glyph standing for exactly them in playable level `level`."""
+        table: Dict[FrozenSet[str], str] = {}
+        for glyph, cell in self.glyph_cells(level).items():
+            table.setdefault(cell, glyph)
+        return table
 
     def describe_actions(self) -> List[str]:
         return [f"{name}: {ACTION_MEANINGS[name]}" for name in self.actions]
@@ -177,10 +225,14 @@ def make_game_text(
     metadata = ir.get("metadata", {})
     case = _written_case(sections)
     positions = _first_positions(sections)
-    glyph_of_cell: Dict[FrozenSet[str], str] = {}
-    # Of several glyphs for the same objects, the one the levels use first (then the legend).
-    for glyph, cell in sorted(glyph_cells(ir).items(), key=lambda item: (positions.get(item[0], 1 << 30), item[0])):
-        glyph_of_cell.setdefault(cell, case.get(glyph, glyph))
+    # Of several glyphs for the same objects, the one the levels use first (then the legend) is shown.
+    glyphs = tuple(
+        (case.get(glyph, glyph), frozenset(objects))
+        for glyph, objects in sorted(
+            ir["legend"]["glyphs"].items(), key=lambda item: (positions.get(item[0], 1 << 30), item[0])
+        )
+        if len(glyph) == 1 and not glyph.isspace()
+    )
     reserved = set()
     for glyph in ir["legend"]["glyphs"]:
         if len(glyph) == 1:
@@ -193,7 +245,10 @@ def make_game_text(
         win_conditions=tuple(line.strip() for line in sections.get("winconditions", [])),
         legend=tuple(line.strip() for line in sections.get("legend", [])),
         object_order=tuple(object_order),
-        glyph_of_cell=glyph_of_cell,
+        glyphs=glyphs,
+        background=background_objects(ir),
+        level_fills=level_fills(ir, split_sections(source, keep_blank=True)),
+        default_fill=frozenset([ir["background"]["name"]]),
         reserved=frozenset(reserved),
         level_cells=_level_cells(ir),
         actions=offered_actions(flags, action_set),

@@ -13,7 +13,7 @@ from typing import Dict, FrozenSet, List, Optional, Sequence, Union
 from ..build import compile, emit_ir, ir_path_for, source_path_for
 from ..vector_env import VectorEnv
 from .game_text import ACTION_NAMES, GameText, make_game_text, parse_action
-from .text_state import Symbols, cells_of_record, header, parse_text, render_map
+from .text_state import Symbols, cells_of_record, level_of_entry, parse_text, state_text
 
 DEFAULT_UNDO_DEPTH = 256  # undo entries kept per environment (an episode of the paper's 100 steps fits)
 
@@ -82,8 +82,8 @@ class TextVectorEnv:
         self.num_envs = int(num_envs)
         self.max_steps = max_steps
         self.play_through = play_through
-        self._base_symbols = Symbols(self.game)
-        self._symbols = [self._base_symbols.copy() for _ in range(self.num_envs)]
+        self._base_symbols: Dict[Optional[int], Symbols] = {}  # by level: each episode starts from a copy
+        self._symbols = [Symbols(self.game) for _ in range(self.num_envs)]
         self._steps = [0] * self.num_envs
         self._ended = [True] * self.num_envs
         self._texts = [""] * self.num_envs
@@ -98,10 +98,7 @@ class TextVectorEnv:
     def level_of_entry(self, entry: int) -> Optional[int]:
         """The playable level shown at LEVELS entry `entry`, or for a message
         entry the level after it (None after the last level)."""
-        for level, level_entry in enumerate(self.info.level_entries):
-            if level_entry >= entry:
-                return level
-        return None
+        return level_of_entry(self.info.level_entries, entry)
 
     # --- episodes
 
@@ -124,7 +121,10 @@ class TextVectorEnv:
         return self._texts[i]
 
     def _start_episode(self, i: int) -> None:
-        self._symbols[i] = self._base_symbols.copy()
+        level = self.level_of_entry(int(self.env.dump_state(i)["level"]))
+        if level not in self._base_symbols:
+            self._base_symbols[level] = Symbols(self.game, level)
+        self._symbols[i] = self._base_symbols[level].copy()
         self._steps[i] = 0
         self._ended[i] = False
         self._refresh(i, level_won=False)
@@ -179,11 +179,7 @@ class TextVectorEnv:
     def _refresh(self, i: int, level_won: bool) -> None:
         record = self.env.dump_state(i)
         self._records[i] = record
-        entry = int(record["level"])
-        lines = header(
-            self.level_count, self.level_of_entry(entry), record["screen"], level_won, record.get("message")
-        )
-        self._texts[i] = "\n".join(lines) + "\n" + render_map(cells_of_record(record), self._symbols[i], self.game.object_order)
+        self._texts[i] = state_text(record, self._symbols[i], self.game, self.info.level_entries, level_won)
 
     def _info(self, i: int, level_won: bool) -> dict:
         record = self._records[i]

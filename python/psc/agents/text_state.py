@@ -55,37 +55,44 @@ CANDIDATE_SYMBOLS = _candidate_symbols()
 
 
 class Symbols:
-    """The character of each cell combination within one episode."""
+    """The character of each cell combination within one episode: the
+    game's glyphs as they read in the level shown, and symbols generated for
+    every other combination, kept for the whole episode."""
 
-    def __init__(self, game: GameText):
+    def __init__(self, game: GameText, level: Optional[int] = None):
         self._game = game
-        self._symbol_of: Dict[FrozenSet[str], str] = dict(game.glyph_of_cell)
-        self._used: Set[str] = set(self._symbol_of.values())
+        self._level = level
+        self._glyphs = game.glyph_table(level)
+        self._generated: Dict[FrozenSet[str], str] = {}
         self._next = 0  # the next CANDIDATE_SYMBOLS index to try
         for cell in game.level_cells:
             self.symbol(cell)
 
     def copy(self) -> "Symbols":
         clone = Symbols.__new__(Symbols)
-        clone._game = self._game
-        clone._symbol_of = dict(self._symbol_of)
-        clone._used = set(self._used)
-        clone._next = self._next
+        clone.__dict__.update(self.__dict__)
+        clone._generated = dict(self._generated)
         return clone
 
+    def show_level(self, level: Optional[int]) -> None:
+        """The level shown changed (playing through): glyphs read as they do there."""
+        if level != self._level:
+            self._level = level
+            self._glyphs = self._game.glyph_table(level)
+
     def symbol(self, cell: FrozenSet[str]) -> str:
-        symbol = self._symbol_of.get(cell)
+        symbol = self._glyphs.get(cell) or self._generated.get(cell)
         if symbol is None:
+            used = set(self._generated.values())
             while self._next < len(CANDIDATE_SYMBOLS):
                 candidate = CANDIDATE_SYMBOLS[self._next]
                 self._next += 1
-                if candidate not in self._game.reserved and candidate not in self._used:
+                if candidate not in self._game.reserved and candidate not in used:
                     symbol = candidate
                     break
             else:
                 raise RuntimeError("out of symbols for new cell combinations")
-            self._symbol_of[cell] = symbol
-            self._used.add(symbol)
+            self._generated[cell] = symbol
         return symbol
 
 
@@ -128,6 +135,24 @@ def header(game_levels: int, level: Optional[int], screen: str, won: bool, messa
         where = f"before level {level} of {game_levels}" if level is not None else "after the last level"
         return [f"Message screen {where}:", f"Message: {message}", "(The map is the level behind the message.)"]
     return [f"Level {level} of {game_levels}: {'won' if won else 'playing'}"]
+
+
+def level_of_entry(level_entries: Sequence[int], entry: int) -> Optional[int]:
+    """The playable level shown at LEVELS entry `entry`, or for a message
+    entry the level after it (None after the last level)."""
+    for level, level_entry in enumerate(level_entries):
+        if level_entry >= entry:
+            return level
+    return None
+
+
+def state_text(record: Mapping, symbols: Symbols, game: GameText, level_entries: Sequence[int], won: bool) -> str:
+    """The text of a state record (psc_dump_state or corpus form); won: the level was won in this step."""
+    level = level_of_entry(level_entries, int(record["level"]))
+    if record["screen"] == "level":  # message and title screens show the last level's buffer
+        symbols.show_level(level)
+    lines = header(len(level_entries), level, record["screen"], won, record.get("message"))
+    return "\n".join(lines) + "\n" + render_map(cells_of_record(record), symbols, game.object_order)
 
 
 def parse_text(text: str) -> List[List[FrozenSet[str]]]:
