@@ -167,7 +167,13 @@ def test_rules_text_strips_comments():
     assert rules.startswith("Game: Crate Yard by psc")
     assert "[ > Player | Crate ] -> [ > Player | > Crate ]" in rules
     assert "All Target on Crate" in rules
-    assert "(" not in rules.replace("(names used in the rules)", "").replace("(the level is won when all hold)", "")
+    assert "Player, Wall, Crate" in rules  # the collision layers
+
+
+def test_sections_drop_comments_inside_them():
+    source = "RULES\n(a comment)\n[ a ] -> [ b ] (why)\n\nWINCONDITIONS\nno a (never)\n"
+    sections = game_text.split_sections(source)
+    assert sections["rules"] == ["[ a ] -> [ b ]"] and sections["winconditions"] == ["no a"]
 
 
 def test_comment_stripping_nests_and_spans_lines():

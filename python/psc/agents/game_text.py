@@ -135,6 +135,7 @@ class GameText:
     rules: Tuple[str, ...]  # RULES lines as written, comments stripped
     win_conditions: Tuple[str, ...]  # WINCONDITIONS lines
     legend: Tuple[str, ...]  # LEGEND lines (the names the rules use)
+    collision_layers: Tuple[str, ...]  # COLLISIONLAYERS lines
     object_order: Tuple[str, ...]  # object names by collision layer: the order of a cell's objects in text
     glyphs: Tuple[Tuple[str, FrozenSet[str]], ...]  # (glyph as written, its objects), preferred first
     background: FrozenSet[str]  # the objects of the background's layer
@@ -244,6 +245,7 @@ def make_game_text(
         rules=tuple(line.strip() for line in sections.get("rules", [])),
         win_conditions=tuple(line.strip() for line in sections.get("winconditions", [])),
         legend=tuple(line.strip() for line in sections.get("legend", [])),
+        collision_layers=tuple(line.strip() for line in sections.get("collisionlayers", [])),
         object_order=tuple(object_order),
         glyphs=glyphs,
         background=background_objects(ir),

@@ -25,11 +25,17 @@ _ACTION_LINE = re.compile(r"ACTION\s*:\s*\**\s*[`'\"\[(]?\s*([A-Za-z0-9]+)", re.
 
 
 def describe_game(game: GameText) -> str:
-    """The game as the prompt presents it: title, author, legend, rules and win conditions."""
+    """The game as the prompt presents it: title, author, legend, collision
+    layers, rules and win conditions, as the source writes them."""
     by = f" by {game.author}" if game.author else ""
     parts = [f"Game: {game.title or '(untitled)'}{by}"]
     if game.legend:
         parts.append("Legend (names used in the rules):\n" + "\n".join(game.legend))
+    if game.collision_layers:
+        parts.append(
+            "Collision layers (objects of one layer cannot share a cell; moving into a cell taken in the mover's "
+            "layer is blocked unless a rule moves the other object first):\n" + "\n".join(game.collision_layers)
+        )
     parts.append("Rules:\n" + ("\n".join(game.rules) if game.rules else "(none)"))
     parts.append(
         "Win conditions (the level is won when all hold):\n"

@@ -303,7 +303,8 @@ class TextEnv:
         return self._env.record(0)
 
     def rules_text(self) -> str:
-        """The game's title, author, legend, rules and win conditions as written (comments stripped)."""
+        """The game's title, author, legend, collision layers, rules and win
+        conditions as written (comments stripped): the prompt's description."""
         from .prompt import describe_game
 
         return describe_game(self.game)
