@@ -2,15 +2,17 @@
 """psc solve over every level of the benchmark games (bench/games, made by
 bench/extract_games.py), and the tables of docs/search.md.
 
-  bench/solve_report.py run --backend cpu --threads 2 --time-limit 30 --out R.jsonl [--algorithm A] [--games a,b]
+  bench/solve_report.py run --backend cpu --threads 2 --time-limit 30 --out R.jsonl [--algorithm A] [--games a,b] [--jobs N]
   bench/solve_report.py table R.jsonl [R2.jsonl ...]     per-game table, one column group per file
   bench/solve_report.py levels R.jsonl [R2.jsonl ...]    per-level table
 
 `run` writes one JSON record per level (psc solve's, plus "game", "seed" and
 "time_limit") and prints progress; the records are what tools/verify_solutions.py
-checks in the original engine."""
+checks in the original engine.  With --jobs N, N games are searched at once
+(their seconds then include the sharing)."""
 
 import argparse
+import concurrent.futures
 import json
 import os
 import subprocess
@@ -24,23 +26,33 @@ PAPER = {"sokoban": "2/2", "match3": "2/2", "limerick": "4/10", "blocks": "1/1",
          "constellationz": "5/5", "atlas": "-"}
 
 
+def solve_game(a, game):
+    path = os.path.join(a.game_dir, game + ".txt")
+    command = [a.psc, "solve", path, "--all-levels", "--format", "json", "--quiet", "--backend", a.backend,
+               "--threads", str(a.threads), "--time-limit", str(a.time_limit), "--algorithm", a.algorithm]
+    done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if done.returncode == 2:
+        return game, None, done.stderr.strip()[-500:]
+    return game, [json.loads(line) for line in done.stdout.splitlines() if line.strip()], ""
+
+
 def run(a):
     games = a.games.split(",") if a.games else GAMES
-    with open(a.out, "w") as out:
-        for game in games:
-            path = os.path.join(a.game_dir, game + ".txt")
-            command = [a.psc, "solve", path, "--all-levels", "--format", "json", "--quiet", "--backend", a.backend,
-                       "--threads", str(a.threads), "--time-limit", str(a.time_limit), "--algorithm", a.algorithm]
-            done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-            if done.returncode == 2:
-                print(f"{game}: error: {done.stderr.strip()[-500:]}", file=sys.stderr)
+    by_game = {}
+    with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
+        for game, records, error in pool.map(lambda g: solve_game(a, g), games):
+            if records is None:
+                print(f"{game}: error: {error}", file=sys.stderr)
                 continue
-            records = [json.loads(line) for line in done.stdout.splitlines() if line.strip()]
             for r in records:
                 r.update(game=game, seed=0, time_limit=a.time_limit)
-                out.write(json.dumps(r) + "\n")
+            by_game[game] = records
             solved = sum(r["status"] == "solved" for r in records)
             print(f"{game}: {solved}/{len(records)} solved, {sum(r['seconds'] for r in records):.1f} s", flush=True)
+    with open(a.out, "w") as out:
+        for game in games:
+            for r in by_game.get(game, []):
+                out.write(json.dumps(r) + "\n")
 
 
 def load(path):
@@ -106,6 +118,7 @@ def main():
     r.add_argument("--threads", type=int, default=1)
     r.add_argument("--time-limit", type=float, default=30)
     r.add_argument("--algorithm", default="bfs")
+    r.add_argument("--jobs", type=int, default=1)
     r.add_argument("--out", required=True)
     for name in ("table", "levels"):
         t = sub.add_parser(name)

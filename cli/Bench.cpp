@@ -43,6 +43,7 @@ int runBench(const BenchOptions& o) {
     GameBuildOptions build = o.build;
     build.target = cuda ? "cuda" : "cpu";
     if (!o.allLevels) build.levels = {o.level};  // bitboards sized for this level only
+    build.searchKernels = o.expand;
     auto plugin = loadPlugin(*game, *text, o.gamePath, build);
     if (!plugin) return 2;
     const psc_game_info& info = plugin->info();

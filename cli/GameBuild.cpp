@@ -31,6 +31,7 @@ codegen::SourceOptions sourceOptions(const std::string& text, const std::string&
     so.target = options.target == "cpu" ? "cpu" : "cuda";
     so.gpuState = options.gpuState;
     so.cudaUnits = options.cudaUnits;
+    so.searchKernels = options.searchKernels;
     return so;
 }
 
@@ -115,8 +116,8 @@ std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const s
         if (files) *files = deviceCodeFiles(r, cubinPath, ptxPath);
         return r;
     }
-    if (!cudaCompilerAvailable(options.cuda.compiler)) {
-        fmt::print(stderr, "{}: error: the CUDA compiler {} is not available\n", path, options.cuda.compiler);
+    if (const std::string problem = cudaCompilerProblem(options.cuda.compiler); !problem.empty()) {
+        fmt::print(stderr, "{}: error: the CUDA compiler {} is not available: {}\n", path, options.cuda.compiler, problem);
         return std::nullopt;
     }
     CudaCompileResult r = compileCuda(source, sha1Hex(text).substr(0, 12), options.cuda);

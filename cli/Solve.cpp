@@ -105,6 +105,7 @@ int runSolve(const SolveCommandOptions& o) {
     GameBuildOptions build = o.build;
     build.target = o.backend == "cuda" ? "cuda" : "cpu";
     build.levels = levels;  // keys and boards sized for the levels searched
+    build.searchKernels = true;
     auto plugin = loadPlugin(*game, *text, o.gamePath, build);
     if (!plugin) return 2;
 

@@ -4,16 +4,20 @@
 //   psc GAME.txt --emit ast|ir|cpp [--format text|json|reference]
 //   psc GAME.txt -o GAME.so                  build the step-function plugin
 //   psc replay CASE.json                     replay a corpus trace and compare every state
+//   psc play GAME.txt [--level N]            play the game in the terminal
+//   psc --version                            the version, and whether CUDA plugins can be built
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 
 #include "Bench.h"
 #include "CppSource.h"
 #include "Diagnose.h"
 #include "GameBuild.h"
+#include "Play.h"
 #include "Replay.h"
 #include "Solve.h"
 #include "SourceFile.h"
@@ -41,8 +45,8 @@ int runCheck(const std::string& path, bool cuda) {
     cli::GameBuildOptions gb;
     gb.target = "cuda";
     gb.cuda.syntaxOnly = true;
-    if (!cudaCompilerAvailable(gb.cuda.compiler)) {
-        fmt::print(stderr, "{}: error: NVRTC is not available\n", path);
+    if (const std::string problem = cudaCompilerProblem(gb.cuda.compiler); !problem.empty()) {
+        fmt::print(stderr, "{}: error: {}\n", path, problem);
         return 1;
     }
     const CudaCompileResult r = compileCuda(codegen::cudaSource(*result.game, cli::sourceOptions(*source, path, gb)), "check", gb.cuda);
@@ -109,6 +113,10 @@ int runBuild(const std::string& path, const std::string& output, const cli::Game
 int main(int argc, char** argv) {
     CLI::App app{"psc: compiles PuzzleScript games into step-function plugins"};
     app.require_subcommand(0, 1);
+    app.set_version_flag("--version", std::function<std::string()>([] {
+        const std::string cuda = cudaCompilerProblem("nvrtc");
+        return fmt::format("psc {}\nCUDA plugins: {}", PSC_VERSION, cuda.empty() ? "NVRTC available" : cuda);
+    }), "print the version, and whether CUDA plugins can be built, and exit");
 
     std::string game;
     std::string emit;
@@ -139,6 +147,8 @@ int main(int argc, char** argv) {
     const char* cudaUnitsHelp = "CUDA compile units NVRTC compiles at once (memory layout); 0: by code size";
     app.add_option("--cuda-units", cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     app.add_flag("--verbose", verbose, "print the compiler command and cache use");
+    bool searchKernels = false;
+    app.add_flag("--search-kernels", searchKernels, "also compile search's GPU expansion kernel (psc_expand on CUDA batches)");
     app.add_flag("--native", native, "optimise the CPU code for this machine (-march=native)");
     std::vector<int> buildLevels;
     app.add_option("--levels", buildLevels, "build only these playable levels (numbered from 0); smaller plugins step faster")
@@ -201,9 +211,26 @@ int main(int argc, char** argv) {
     solve->add_option("--format", solveOptions.format, "text, or json: one object per level and line")
         ->check(CLI::IsMember({"text", "json"}));
     solve->add_flag("--quiet", solveOptions.quiet, "no progress line");
+    solve->add_flag("--keep-going", solveOptions.build.keepGoing, "search games that have errors but that the reference engine still plays");
     solve->add_option("--fast-compile", solveOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     solve->add_option("--gpu-state", solveOptions.build.gpuState, gpuStateHelp)->check(gpuStates);
     solve->add_flag("--verbose", solveOptions.build.build.verbose, "print the compiler command and cache use");
+
+    cli::PlayCommandOptions playOptions;
+    CLI::App* play = app.add_subcommand("play", "play the game in the terminal (arrows or WASD, X action, Z undo, R restart, Q quit)");
+    play->add_option("game", playOptions.gamePath, "the game")->required();
+    play->add_option("--level", playOptions.level, "start at this playable level (from 0) instead of the title screen");
+    play->add_flag("--glyphs", playOptions.glyphs, "draw levels with their legend glyphs, not sprites");
+    play->add_flag("--scripted", playOptions.scripted,
+                   "read keys from standard input (a pipe is fine); without a terminal, print what happens");
+    play->add_option("--replay", playOptions.replay, "animate these inputs first: u l d r x, z undo, ! restart, . tick");
+    play->add_option("--replay-file", playOptions.replayFile, "animate the inputs in this file first (as --record writes)");
+    play->add_option("--replay-interval", playOptions.replayInterval, "seconds between replayed inputs")
+        ->check(CLI::Range(0.0, 10.0));
+    play->add_option("--record", playOptions.recordPath, "write the inputs played to this file");
+    play->add_option("--seed", playOptions.seed, "the random seed of games that use random (default: from the clock)");
+    play->add_option("--hint-time-limit", playOptions.hintTimeLimit, "seconds the hint key's search may take")
+        ->check(CLI::Range(0.1, 3600.0));
 
     try {
         app.parse(argc, argv);
@@ -213,6 +240,7 @@ int main(int argc, char** argv) {
         return status == 0 ? 0 : 2;
     }
 
+    if (*play) return cli::runPlay(playOptions);
     if (*bench) return cli::runBench(benchOptions);
     if (*solve) return cli::runSolve(solveOptions);
     if (*check) return runCheck(checkGame, checkCuda);
@@ -238,6 +266,7 @@ int main(int argc, char** argv) {
         options.cuda.verbose = verbose;
         options.gpuState = gpuState;
         options.cudaUnits = cudaUnits;
+        options.searchKernels = searchKernels;
         return runBuild(game, output, options);
     }
     if (format == "reference" && emit != "ir") {
@@ -257,6 +286,7 @@ int main(int argc, char** argv) {
         gb.build.verbose = verbose;
         gb.gpuState = gpuState;
         gb.cudaUnits = cudaUnits;
+        gb.searchKernels = searchKernels;
         auto compiled = cli::compileForBuild(*source, game, gb);
         if (!compiled) return 1;
         if (emit == "cuda") {

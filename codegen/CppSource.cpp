@@ -106,6 +106,7 @@ std::string shapingOptions(const SourceOptions& o) {
     if (!levels.empty()) out += " --levels " + join(levels, " ");
     if (o.target != "cpu" && o.gpuState != "auto") out += " --gpu-state " + o.gpuState;
     if (o.target != "cpu" && o.cudaUnits > 0) out += fmt::format(" --cuda-units {}", o.cudaUnits);
+    if (o.target != "cpu" && o.searchKernels) out += " --search-kernels";
     return out;
 }
 
@@ -146,6 +147,8 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
     if (o.target != "cpu") {
         out.line(fmt::format("#define PSC_COMPILE_UNITS {}  // programs NVRTC compiles at once (templates/core.h)",
                              gpu.units));
+        out.line(fmt::format("#define PSC_SEARCH_KERNELS {}  // psc_expand on the GPU (--search-kernels)",
+                             o.searchKernels ? 1 : 0));
     }
     out.line();
     out.open("namespace psc_game");

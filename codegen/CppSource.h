@@ -30,6 +30,10 @@ struct SourceOptions {
     // CUDA compile units (templates/core.h) for a memory-layout game; 0: as
     // many as its rule code calls for (one per 16 kB, at most 8 in all).
     int cudaUnits = 0;
+    // Also compile search's expansion kernel (psc_expand on CUDA batches).
+    // Off by default: in the registers layout it inlines every rule a second
+    // time, which costs NVRTC up to 80% more time (docs/search.md).
+    bool searchKernels = false;
 };
 
 // The part that runs per environment (host and device): tables, rules, engine.

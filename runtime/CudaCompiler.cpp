@@ -1,9 +1,10 @@
 #include "CudaCompiler.h"
 
+#include "ChildProcess.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
@@ -15,13 +16,10 @@
 #include <regex>
 #include <set>
 #include <sstream>
-#include <thread>
+#include <dlfcn.h>
 #include <unistd.h>
 
-#if PSC_HAVE_NVRTC
-#include <nvJitLink.h>
-#include <nvrtc.h>
-#endif
+#include "NvrtcModule.h"
 
 namespace psc {
 namespace {
@@ -35,147 +33,49 @@ std::string readAll(const fs::path& p) {
     return ss.str();
 }
 
-std::vector<std::string> commonOptions(const CudaCompileOptions& options) {
-    std::vector<std::string> o = {"-std=c++17", "-default-device", "-Xptxas=-v", "-DPSC_CUDA=1"};
-    if (options.fastCompile != "0") o.push_back("-Ofc=" + options.fastCompile);
-    return o;
+std::string executableDir() {
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    return ec ? std::string() : exe.parent_path().string();
 }
 
-#if PSC_HAVE_NVRTC
-std::string programLog(nvrtcProgram program) {
-    size_t size = 0;
-    nvrtcGetProgramLogSize(program, &size);
-    std::string log(size, '\0');
-    if (size) nvrtcGetProgramLog(program, log.data());
-    while (!log.empty() && log.back() == '\0') log.pop_back();
-    return log;
-}
-
-struct UnitOutput {
-    bool ok = false;
-    std::vector<char> cubin;
-    std::string ptx;
-    std::string log;
-    double seconds = 0;
+struct LoadedNvrtc {
+    const NvrtcModule* module = nullptr;
+    std::string problem;  // why module is null
 };
 
-// One NVRTC program for a real architecture: NVRTC keeps the PTX it lowered
-// to the cubin, so both come from the same run.
-UnitOutput nvrtcProgramOutput(const std::string& source, const std::string& name, const std::vector<std::string>& options,
-                              bool syntaxOnly) {
-    UnitOutput u;
-    const auto start = std::chrono::steady_clock::now();
-    nvrtcProgram program;
-    if (nvrtcCreateProgram(&program, source.c_str(), name.c_str(), 0, nullptr, nullptr) != NVRTC_SUCCESS) {
-        u.log = "NVRTC could not create the program\n";
-        return u;
-    }
-    std::vector<const char*> argv;
-    for (const auto& o : options) argv.push_back(o.c_str());
-    const nvrtcResult compiled = nvrtcCompileProgram(program, static_cast<int>(argv.size()), argv.data());
-    u.log = programLog(program);
-    u.ok = compiled == NVRTC_SUCCESS;
-    if (!u.ok) u.log += std::string(nvrtcGetErrorString(compiled)) + "\n";
-    if (u.ok && !syntaxOnly) {
-        size_t cubinSize = 0, ptxSize = 0;
-        u.ok = nvrtcGetCUBINSize(program, &cubinSize) == NVRTC_SUCCESS && nvrtcGetPTXSize(program, &ptxSize) == NVRTC_SUCCESS;
-        if (u.ok) {
-            u.cubin.resize(cubinSize);
-            u.ptx.assign(ptxSize, '\0');
-            u.ok = nvrtcGetCUBIN(program, u.cubin.data()) == NVRTC_SUCCESS && nvrtcGetPTX(program, u.ptx.data()) == NVRTC_SUCCESS;
-            while (!u.ptx.empty() && u.ptx.back() == '\0') u.ptx.pop_back();
+// The NVRTC module beside the running executable (NvrtcModule.h), loaded once.
+const LoadedNvrtc& nvrtcModule() {
+    static const LoadedNvrtc loaded = [] {
+        LoadedNvrtc l;
+#if PSC_HAVE_NVRTC
+        const fs::path module = fs::path(executableDir()) / kNvrtcModuleDir / kNvrtcModuleFile;
+        const std::string path = module.lexically_normal().string();
+        std::error_code ec;
+        if (!fs::exists(path, ec)) {
+            l.problem = "psc's NVRTC module is not installed (" + path + ")";
+            return l;
         }
-        u.ok = u.ok && !u.cubin.empty() && !u.ptx.empty();
-    }
-    nvrtcDestroyProgram(&program);
-    u.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return u;
-}
-
-// The units' relocatable cubins linked into one.
-bool linkUnits(const std::vector<UnitOutput>& units, int arch, CudaCompileResult& r) {
-    const std::string archOption = fmt::format("-arch=sm_{}", arch);
-    r.linkOptions = {archOption};
-    const char* options[] = {archOption.c_str()};
-    nvJitLinkHandle link;
-    if (nvJitLinkCreate(&link, 1, options) != NVJITLINK_SUCCESS) {
-        r.log += "nvJitLink could not start\n";
-        return false;
-    }
-    bool ok = true;
-    for (size_t k = 0; k < units.size() && ok; ++k) {
-        const std::string name = fmt::format("unit{}.cubin", k);
-        ok = nvJitLinkAddData(link, NVJITLINK_INPUT_CUBIN, units[k].cubin.data(), units[k].cubin.size(), name.c_str()) ==
-             NVJITLINK_SUCCESS;
-    }
-    ok = ok && nvJitLinkComplete(link) == NVJITLINK_SUCCESS;
-    size_t size = 0;
-    if (ok && nvJitLinkGetLinkedCubinSize(link, &size) == NVJITLINK_SUCCESS && size > 0) {
-        r.cubin.resize(size);
-        ok = nvJitLinkGetLinkedCubin(link, r.cubin.data()) == NVJITLINK_SUCCESS;
-    } else {
-        ok = false;
-    }
-    if (!ok) {
-        size_t logSize = 0;
-        nvJitLinkGetErrorLogSize(link, &logSize);
-        std::string error(logSize, '\0');
-        if (logSize) nvJitLinkGetErrorLog(link, error.data());
-        while (!error.empty() && error.back() == '\0') error.pop_back();
-        r.log += "linking the compile units failed: " + error + "\n";
-    }
-    nvJitLinkDestroy(&link);
-    return ok;
-}
-
-// Compiles the source as one program, or as its compile units at once (as
-// many at a time as there are cores), relocatable, then linked.
-bool nvrtcCompile(const std::string& source, const std::string& name, const CudaCompileOptions& options, CudaCompileResult& r) {
-    // NVRTC (12.9+) shares the driver's compute cache, and a hit there returns
-    // a cubin without ptxas's report, which sizes the kernels' stack
-    // (stackBound).  psc caches whole results itself, so that cache is
-    // turned off; NVRTC reads the variable once, at its first compilation.
-    setenv("CUDA_CACHE_DISABLE", "1", 1);
-    // A syntax check reads the source once, as one program: that is all of
-    // every unit's code (tests/correctness/cuda_compile_units.py compiles and
-    // links units), and CI checks a thousand games so.
-    const int units = options.syntaxOnly ? 1 : compileUnitsOf(source);
-    r.units = units;
-    r.options = commonOptions(options);
-    r.options.push_back(fmt::format("--gpu-architecture=sm_{}", options.architecture));
-    if (options.syntaxOnly) r.options.push_back("-fdevice-syntax-only");
-    if (units > 1) r.options.push_back("-rdc=true");
-    std::vector<UnitOutput> outputs(static_cast<size_t>(units));
-    std::atomic<int> next{0};
-    auto work = [&] {
-        for (int k; (k = next++) < units;) {
-            std::vector<std::string> unitOptions = r.options;
-            if (units > 1) unitOptions.push_back(fmt::format("-DPSC_UNIT={}", k));
-            outputs[static_cast<size_t>(k)] = nvrtcProgramOutput(source, name, unitOptions, options.syntaxOnly);
+        void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+        if (!handle) {
+            l.problem = fmt::format("NVRTC cannot be loaded (the CUDA Toolkit's libraries are needed): {}", dlerror());
+            return l;
         }
-    };
-    const int workers = std::max(1, std::min<int>(units, static_cast<int>(std::thread::hardware_concurrency())));
-    std::vector<std::thread> threads;
-    for (int w = 1; w < workers; ++w) threads.emplace_back(work);
-    work();
-    for (auto& t : threads) t.join();
-    bool ok = true;
-    for (int k = 0; k < units; ++k) {
-        const UnitOutput& u = outputs[static_cast<size_t>(k)];
-        if (units > 1 && !u.log.empty()) r.log += fmt::format("compile unit {}:\n", k);
-        r.log += u.log;
-        ok = ok && u.ok;
-        r.ptx.push_back(u.ptx);
-        r.unitSeconds.push_back(u.seconds);
-    }
-    if (!ok || options.syntaxOnly) return ok;
-    if (units == 1) {
-        r.cubin = outputs[0].cubin;
-        return true;
-    }
-    return linkUnits(outputs, options.architecture, r);
-}
+        const auto entry = reinterpret_cast<decltype(&psc_nvrtc_module)>(dlsym(handle, kNvrtcModuleEntry));
+        const NvrtcModule* m = entry ? entry() : nullptr;
+        if (!m || m->version != kNvrtcModuleVersion || m->optionsSize != sizeof(CudaCompileOptions) ||
+            m->resultSize != sizeof(CudaCompileResult)) {
+            l.problem = path + " is not the NVRTC module of this psc";
+            return l;
+        }
+        l.module = m;
+#else
+        l.problem = "this psc was built without NVRTC (the CUDA Toolkit was not found)";
 #endif
+        return l;
+    }();
+    return loaded;
+}
 
 std::string nvccPath() {
     for (const char* candidate : {"/usr/local/cuda/bin/nvcc"}) {
@@ -194,18 +94,33 @@ bool nvccCompile(const std::string& source, const std::string& name, const CudaC
         std::ofstream out(cu);
         out << source;
     }
-    const std::string common = std::string("-std=c++17 -Xptxas=-v -DPSC_CUDA=1") +
-                               (options.fastCompile != "0" ? " -Ofc=" + options.fastCompile : "");
-    const std::string cubinCmd = fmt::format("{} {} -cubin -arch=sm_{} -o '{}' '{}'", nvccPath(), common, arch,
-                                             (dir / "out.cubin").string(), cu.string());
-    const std::string ptxCmd = fmt::format("{} {} -ptx -arch=compute_{} -o '{}' '{}'", nvccPath(), common, arch,
-                                           (dir / "out.ptx").string(), cu.string());
-    r.options = {cubinCmd, ptxCmd};
+    std::vector<std::string> common = {"-std=c++17", "-Xptxas=-v", "-DPSC_CUDA=1"};
+    if (options.fastCompile != "0") common.push_back("-Ofc=" + options.fastCompile);
+    auto command = [&](const std::string& kind, const std::string& arch, const std::string& output) {
+        std::vector<std::string> argv = {nvccPath()};
+        argv.insert(argv.end(), common.begin(), common.end());
+        for (const auto& a : {kind, arch, std::string("-o"), (dir / output).string(), cu.string()}) argv.push_back(a);
+        return argv;
+    };
+    const auto cubinCmd = command("-cubin", fmt::format("-arch=sm_{}", arch), "out.cubin");
+    const auto ptxCmd = command("-ptx", fmt::format("-arch=compute_{}", arch), "out.ptx");
+    auto joined = [](const std::vector<std::string>& argv) {
+        std::string line;
+        for (const auto& a : argv) line += (line.empty() ? "" : " ") + a;
+        return line;
+    };
+    r.options = {joined(cubinCmd), joined(ptxCmd)};
+    const ChildLimits limits = defaultCompileLimits();
     bool ok = true;
     for (const auto& cmd : {cubinCmd, ptxCmd}) {
+        if (!ok) break;
         const std::string logFile = (dir / "log.txt").string();
-        ok = ok && std::system((cmd + " > '" + logFile + "' 2>&1").c_str()) == 0;
-        r.log += readAll(logFile);
+        const ChildResult child = runChild(cmd, logFile, limits);
+        const std::string log = readAll(logFile);
+        if (const std::string limit = limitMessage(child, limits, log); !limit.empty()) r.log += "nvcc " + limit + "\n";
+        if (!child.error.empty()) r.log += child.error + "\n";
+        r.log += log;
+        ok = child.ok();
     }
     if (ok) {
         const std::string cubin = readAll(dir / "out.cubin");
@@ -352,13 +267,12 @@ size_t stackBound(const std::string& log, const std::vector<std::string>& ptx) {
     return bound + kStackMargin;
 }
 
-bool cudaCompilerAvailable(const std::string& compiler) {
-    if (compiler == "nvcc") return fs::exists(nvccPath()) || std::system("command -v nvcc > /dev/null 2>&1") == 0;
-#if PSC_HAVE_NVRTC
-    return compiler == "nvrtc";
-#else
-    return false;
-#endif
+bool cudaCompilerAvailable(const std::string& compiler) { return cudaCompilerProblem(compiler).empty(); }
+
+std::string cudaCompilerProblem(const std::string& compiler) {
+    if (compiler == "nvcc") return findProgram(nvccPath()).empty() ? "nvcc is not installed" : "";
+    if (compiler == "nvrtc") return nvrtcModule().problem;
+    return "unknown CUDA compiler " + compiler;
 }
 
 CudaCompileResult compileCuda(const std::string& source, const std::string& name, const CudaCompileOptions& options) {
@@ -366,12 +280,14 @@ CudaCompileResult compileCuda(const std::string& source, const std::string& name
     const auto start = std::chrono::steady_clock::now();
     if (options.compiler == "nvcc") {
         r.ok = nvccCompile(source, name, options, r);
+    } else if (const NvrtcModule* nvrtc = nvrtcModule().module) {
+        // A syntax check reads the source once, as one program: that is all of
+        // every unit's code (tests/correctness/cuda_compile_units.py compiles and
+        // links units), and CI checks a thousand games so.
+        const int units = options.syntaxOnly ? 1 : compileUnitsOf(source);
+        r.ok = nvrtc->compile(source, name, options, units, r);
     } else {
-#if PSC_HAVE_NVRTC
-        r.ok = nvrtcCompile(source, name, options, r);
-#else
-        r.log = "this psc was built without NVRTC (the CUDA Toolkit was not found)";
-#endif
+        r.log = nvrtcModule().problem + "\n";
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (r.ok && !options.syntaxOnly && r.log.find(" bytes stack frame") == std::string::npos) {

@@ -1,6 +1,7 @@
 // Compiling a game's device code for CUDA: in process with NVRTC (the
-// default), or with nvcc.  Produces a cubin for the target architecture and
-// PTX for the driver to compile on other GPUs.  NVRTC compiles a source that
+// default, through the module of NvrtcModule.h), or with nvcc.  Produces a
+// cubin for the target architecture and PTX for the driver to compile on
+// other GPUs.  NVRTC compiles a source that
 // declares several compile units (PSC_COMPILE_UNITS, templates/core.h) as
 // that many relocatable programs at once, and links them with nvJitLink;
 // nvcc compiles it as one program.
@@ -56,6 +57,8 @@ size_t stackBound(const std::string& log, const std::vector<std::string>& ptx);
 int compileUnitsOf(const std::string& source);
 
 bool cudaCompilerAvailable(const std::string& compiler);
+// Why cudaCompilerAvailable(compiler) is false, in words ("" when it is true).
+std::string cudaCompilerProblem(const std::string& compiler);
 CudaCompileResult compileCuda(const std::string& source, const std::string& name, const CudaCompileOptions& options);
 
 }  // namespace psc

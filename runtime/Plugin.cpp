@@ -8,7 +8,10 @@ namespace psc {
 
 std::unique_ptr<Plugin> Plugin::open(const std::string& path, std::string* error) {
     std::unique_ptr<Plugin> p(new Plugin);
-    p->handle_ = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    // dlopen searches the library path for a name without a slash; a plugin
+    // path names a file, as a relative path does everywhere else.
+    const std::string file = path.find('/') == std::string::npos ? "./" + path : path;
+    p->handle_ = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!p->handle_) {
         *error = std::string("cannot load ") + path + ": " + dlerror();
         return nullptr;

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "ChildProcess.h"
 #include "base/Sha1.h"
 
 namespace psc {
@@ -21,6 +22,14 @@ std::string shellQuote(const std::string& s) {
     std::string out = "'";
     for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
     return out + "'";
+}
+
+// Words separated by spaces: $CXX may be "ccache g++" (run without a shell).
+std::vector<std::string> words(const std::string& s) {
+    std::vector<std::string> out;
+    std::istringstream in(s);
+    for (std::string w; in >> w;) out.push_back(w);
+    return out;
 }
 
 std::string readFile(const fs::path& p) {
@@ -73,12 +82,23 @@ BuildResult buildCpuPlugin(const std::string& source, const BuildOptions& option
             return r;
         }
     }
-    r.command = compiler + " " + flags + " -o " + shellQuote(tmp.string()) + " " + shellQuote(src.string());
+    std::vector<std::string> argv = words(compiler);
+    for (const auto& f : words(flags)) argv.push_back(f);
+    for (const auto& a : {std::string("-o"), tmp.string(), src.string()}) argv.push_back(a);
+    for (const auto& a : argv) r.command += (r.command.empty() ? "" : " ") + shellQuote(a);
     if (options.verbose) fmt::print(stderr, "psc: {}\n", r.command);
-    const int status = std::system((r.command + " > " + shellQuote(log.string()) + " 2>&1").c_str());
-    if (status != 0) {
+    const ChildLimits limits = options.limits ? *options.limits : defaultCompileLimits();
+    const ChildResult child = runChild(argv, log.string(), limits);
+    if (!child.ok()) {
         r.log = readFile(log);
-        if (r.log.empty()) r.log = fmt::format("the compiler exited with status {}", status);
+        if (const std::string limit = limitMessage(child, limits, r.log); !limit.empty()) {
+            r.log = fmt::format("the C++ compiler {}\n{}", limit, r.log);
+        } else if (!child.error.empty()) {
+            r.log = child.error + "\n" + r.log;
+        } else if (r.log.empty()) {
+            r.log = child.signal ? fmt::format("the compiler was killed by signal {}", child.signal)
+                                 : fmt::format("the compiler exited with status {}", child.exitCode);
+        }
         fs::remove(tmp, ec);
     } else {
         fs::rename(tmp, plugin, ec);

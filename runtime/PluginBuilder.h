@@ -2,8 +2,11 @@
 // cached by content hash (source, compiler and flags).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "ChildProcess.h"
 
 namespace psc {
 
@@ -13,6 +16,7 @@ struct BuildOptions {
     bool native = false;             // -march=native (faster, not portable)
     std::string cacheDir;            // default: $PSC_CACHE_DIR, else $XDG_CACHE_HOME/psc, else ~/.cache/psc
     bool verbose = false;            // print the compile command
+    std::optional<ChildLimits> limits;  // the compiler's time and memory; default: defaultCompileLimits()
 };
 
 struct BuildResult {

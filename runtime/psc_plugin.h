@@ -263,7 +263,9 @@ enum {
  * and, where not NULL, their hashes and psc_estimate_distance's estimates
  * (so that best-first search needs no second pass).  Pointers are host memory for
  * CPU batches; for CUDA batches device memory (psc_device_alloc), with the
- * work queued on the batch's stream (psc_synchronize waits for it). */
+ * work queued on the batch's stream (psc_synchronize waits for it): plugins
+ * built with psc --search-kernels (psc solve builds them so), others answer
+ * PSC_ERROR_BACKEND_UNAVAILABLE. */
 PSC_API int psc_expand(psc_batch* batch, int32_t template_env, const void* keys, int32_t count, const int32_t* actions,
                        int32_t action_count, void* children, uint8_t* flags, uint64_t* hashes, int32_t* estimates);
 

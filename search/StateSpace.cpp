@@ -1,5 +1,6 @@
 #include "StateSpace.h"
 
+#include <algorithm>
 #include <cctype>
 #include <stdexcept>
 
@@ -26,7 +27,8 @@ namespace {
 // States a call expands: enough to keep every CPU thread or the GPU busy,
 // few enough that limits are checked often.
 size_t defaultBatch(const SpaceOptions& o, size_t keyBytes) {
-    if (o.backend == Backend::Cpu) return 4096;
+    // About 32 MB of children a call on the CPU: large keys make small batches.
+    if (o.backend == Backend::Cpu) return std::clamp<size_t>((size_t{32} << 20) / (keyBytes * 5), 16, 4096);
     // About 256 MB of children on the GPU.
     const size_t byMemory = (size_t{256} << 20) / (keyBytes * 5);
     return std::max<size_t>(4096, std::min<size_t>(byMemory, size_t{1} << 20));

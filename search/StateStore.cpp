@@ -6,18 +6,22 @@
 namespace psc::search {
 
 StateStore::StateStore(size_t keyWords, size_t memoryLimit) : keyWords_(keyWords), memoryLimit_(memoryLimit) {
+    const size_t stateBytes = keyWords * 8 + sizeof(Meta);
+    blockBits_ = 16;
+    while (blockBits_ > 8 && (size_t{1} << blockBits_) * stateBytes > (size_t{64} << 20)) --blockBits_;
+    blockMask_ = (1u << blockBits_) - 1;
     slots_.assign(size_t{1} << 12, 0);
 }
 
 size_t StateStore::bytes() const {
-    const size_t blockStates = size_t{1} << kBlockBits;
+    const size_t blockStates = size_t{1} << blockBits_;
     return keyBlocks_.size() * blockStates * (keyWords_ * 8 + sizeof(Meta)) + slots_.size() * sizeof(uint32_t);
 }
 
 bool StateStore::reserveOne() {
     if (count_ >= kMaxStates) return false;
-    if ((count_ & kBlockMask) == 0 && (count_ >> kBlockBits) == keyBlocks_.size()) {
-        const size_t blockStates = size_t{1} << kBlockBits;
+    if ((count_ & blockMask_) == 0 && (count_ >> blockBits_) == keyBlocks_.size()) {
+        const size_t blockStates = size_t{1} << blockBits_;
         if (bytes() + blockStates * (keyWords_ * 8 + sizeof(Meta)) > memoryLimit_) return false;
         keyBlocks_.emplace_back(new (std::nothrow) uint64_t[blockStates * keyWords_]);
         metaBlocks_.emplace_back(new (std::nothrow) Meta[blockStates]);
@@ -70,8 +74,8 @@ StateStore::Insert StateStore::insert(const uint64_t* key, uint64_t hash, uint32
         }
     }
     const uint32_t i = static_cast<uint32_t>(count_++);
-    std::memcpy(&keyBlocks_[i >> kBlockBits][(i & kBlockMask) * keyWords_], key, keyWords_ * 8);
-    metaBlocks_[i >> kBlockBits][i & kBlockMask] = Meta{hash, parent, depth, input};
+    std::memcpy(&keyBlocks_[i >> blockBits_][(i & blockMask_) * keyWords_], key, keyWords_ * 8);
+    metaBlocks_[i >> blockBits_][i & blockMask_] = Meta{hash, parent, depth, input};
     slots_[at] = i + 1;
     *index = i;
     return Insert::Added;

@@ -27,7 +27,7 @@ public:
 
     size_t size() const { return count_; }
     size_t bytes() const;  // memory held, tables included
-    const uint64_t* key(uint32_t i) const { return &keyBlocks_[i >> kBlockBits][(i & kBlockMask) * keyWords_]; }
+    const uint64_t* key(uint32_t i) const { return &keyBlocks_[i >> blockBits_][(i & blockMask_) * keyWords_]; }
     uint32_t parent(uint32_t i) const { return meta(i).parent; }
     uint8_t input(uint32_t i) const { return meta(i).input; }
     uint32_t depth(uint32_t i) const { return meta(i).depth; }
@@ -35,15 +35,17 @@ public:
     std::vector<int> path(uint32_t i) const;
 
 private:
-    static constexpr int kBlockBits = 16;
-    static constexpr uint32_t kBlockMask = (1u << kBlockBits) - 1;
+    // States a block holds: a power of two, a block at most about 64 MB (a
+    // first block of huge keys would otherwise cost seconds to map).
+    int blockBits_;
+    uint32_t blockMask_;
     struct Meta {
         uint64_t hash;
         uint32_t parent;
         uint32_t depth;
         uint8_t input;
     };
-    const Meta& meta(uint32_t i) const { return metaBlocks_[i >> kBlockBits][i & kBlockMask]; }
+    const Meta& meta(uint32_t i) const { return metaBlocks_[i >> blockBits_][i & blockMask_]; }
     bool growTable();
     bool reserveOne();
 

@@ -153,6 +153,7 @@ extern "C" __global__ void psc_observe_kernel(psc_game::DeviceBatch b) {
     observeEnvironment(b.envs[i], b.channelObjects, b.channels, b.maxWidth, b.maxHeight, b.observations + bytes * i);
 }
 
+#if PSC_SEARCH_KERNELS
 // Child k = i * actionCount + a of psc_expand: key i after input actions[a],
 // decoded over a copy of the template environment (templates/state_key.h).
 extern "C" __global__ void psc_expand_kernel(psc_game::DeviceBatch b, int templateEnv, const unsigned long long* keys,
@@ -177,3 +178,4 @@ extern "C" __global__ void psc_expand_kernel(psc_game::DeviceBatch b, int templa
         if (estimates) estimates[k] = winDistance(e);
     }
 }
+#endif

@@ -8,19 +8,17 @@ namespace {
 // Runs fn(begin, end) over [0, n) split across persistent worker threads.
 class WorkerPool {
 public:
+    // Throws std::system_error when the system gives fewer threads (the ones started are stopped first).
     explicit WorkerPool(int threads) {
-        for (int i = 1; i < threads; ++i) workers_.emplace_back([this, i] { loop(i); });
+        try {
+            for (int i = 1; i < threads; ++i) workers_.emplace_back([this, i] { loop(i); });
+        } catch (...) {
+            stop();
+            throw;
+        }
         threads_ = threads;
     }
-    ~WorkerPool() {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            stopping_ = true;
-            ++generation_;
-        }
-        wake_.notify_all();
-        for (auto& w : workers_) w.join();
-    }
+    ~WorkerPool() { stop(); }
     void run(int n, const std::function<void(int, int)>& fn) {
         if (threads_ == 1 || n < 2 * threads_) {
             fn(0, n);
@@ -41,6 +39,15 @@ public:
     }
 
 private:
+    void stop() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stopping_ = true;
+            ++generation_;
+        }
+        wake_.notify_all();
+        for (auto& w : workers_) w.join();
+    }
     int chunkEnd(int i) const { return static_cast<int>(static_cast<long long>(n_) * (i + 1) / threads_); }
     void loop(int index) {
         unsigned long long seen = 0;
@@ -78,7 +85,28 @@ struct StateHeader {
     char sha1[40];
     int32_t undoCapacity;
     int32_t undoCount;
+    uint64_t bodyHash;  // FNV-1a of what follows: a damaged state is refused, not loaded
 };
+
+constexpr char kStateMagic[8] = {'p', 's', 'c', 's', 't', 'a', 't', '2'};
+
+uint64_t fnv1a(const char* bytes, size_t size) {
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (size_t i = 0; i < size; ++i) h = (h ^ static_cast<unsigned char>(bytes[i])) * 0x100000001b3ull;
+    return h;
+}
+
+// Fields a saved environment indexes tables or loops with must be in range
+// (a state whose hash matches can still be made by hand).
+bool plausible(const Env& e) {
+    return e.width >= 0 && e.width <= kMaxWidth && e.height >= 0 && e.height <= kMaxHeight &&
+           e.width * (e.height + 1) <= kWords * 64 && e.entry >= 0 && e.levelEntry >= 0 && e.autoReset <= 2 &&
+           e.maxEpisodeSteps >= 0
+#if PSC_USES_RANDOM
+           && e.seedLength <= kSeedUnits
+#endif
+        ;
+}
 
 }  // namespace
 }  // namespace psc_game
@@ -303,6 +331,9 @@ int psc_batch_create(const psc_batch_options* options, psc_batch** batch) {
         }
         int threads = options->threads > 0 ? options->threads : static_cast<int>(std::thread::hardware_concurrency());
         b->pool = new WorkerPool(std::max(1, threads));
+    } catch (const std::system_error& e) {
+        delete b;
+        return fail(PSC_ERROR_BAD_ARGUMENT, std::string("cannot start the worker threads asked for: ") + e.what());
     } catch (const std::bad_alloc&) {
         delete b;
         return fail(PSC_ERROR_OUT_OF_MEMORY, "out of memory creating the batch");
@@ -329,6 +360,7 @@ int psc_batch_size(const psc_batch* batch, int32_t* num_envs) {
 int psc_reset(psc_batch* batch, const int32_t* env_ids, int32_t count, const int32_t* levels, const uint64_t* seeds) {
     using namespace psc_game;
     if (int s = checkBatch(batch)) return s;
+    if (count < 0) return fail(PSC_ERROR_BAD_ARGUMENT, "count must not be negative");
     if (psc_cuda_owns(batch)) return psc_cuda_reset(batch, env_ids, count, levels, seeds);
     if (!levels || !seeds) return fail(PSC_ERROR_NULL_POINTER, "levels and seeds must not be NULL");
     if (!env_ids && count != batch->numEnvs) return fail(PSC_ERROR_BAD_ARGUMENT, "without env_ids, count must be num_envs");
@@ -544,14 +576,15 @@ int psc_save_state(const psc_batch* batch, int32_t env, void* buffer, size_t siz
         for (int k = 0; k < u.count; ++k) undo.push_back(u.entries[(u.head + k) % u.capacity]);
     }
     StateHeader h{};
-    std::memcpy(h.magic, "pscstat1", 8);
+    std::memcpy(h.magic, kStateMagic, 8);
     std::memcpy(h.sha1, kGameInfo.source_sha1, 40);
     h.undoCapacity = batch->undoDepth;
     h.undoCount = static_cast<int32_t>(undo.size());
     char* out = static_cast<char*>(buffer);
-    std::memcpy(out, &h, sizeof h);
     std::memcpy(out + sizeof h, &e, sizeof(Env));
     if (!undo.empty()) std::memcpy(out + sizeof h + sizeof(Env), undo.data(), sizeof(Snapshot) * undo.size());
+    h.bodyHash = fnv1a(out + sizeof h, sizeof(Env) + sizeof(Snapshot) * undo.size());
+    std::memcpy(out, &h, sizeof h);
     return PSC_OK;
 }
 
@@ -563,14 +596,18 @@ int psc_load_state(psc_batch* batch, int32_t env, const void* buffer, size_t siz
     StateHeader h;
     const char* in = static_cast<const char*>(buffer);
     std::memcpy(&h, in, sizeof h);
-    if (std::memcmp(h.magic, "pscstat1", 8) != 0 || std::memcmp(h.sha1, kGameInfo.source_sha1, 40) != 0) {
+    if (std::memcmp(h.magic, kStateMagic, 8) != 0 || std::memcmp(h.sha1, kGameInfo.source_sha1, 40) != 0) {
         return fail(PSC_ERROR_BAD_STATE, "the buffer is not a saved state of this game");
     }
     if (h.undoCapacity != batch->undoDepth || h.undoCount < 0 || h.undoCount > h.undoCapacity) {
         return fail(PSC_ERROR_BAD_STATE, "the saved state's undo depth differs from this batch's");
     }
+    if (fnv1a(in + sizeof h, sizeof(Env) + sizeof(Snapshot) * static_cast<size_t>(h.undoCount)) != h.bodyHash) {
+        return fail(PSC_ERROR_BAD_STATE, "the saved state is damaged (its checksum does not match)");
+    }
     Env e;
     std::memcpy(&e, in + sizeof h, sizeof(Env));
+    if (!plausible(e)) return fail(PSC_ERROR_BAD_STATE, "the saved state holds values out of range");
     std::vector<Snapshot> undo(static_cast<size_t>(h.undoCount));
     if (!undo.empty()) std::memcpy(undo.data(), in + sizeof h + sizeof(Env), sizeof(Snapshot) * undo.size());
     if (psc_cuda_owns(batch)) return psc_cuda_write_state(batch, env, e, undo);

@@ -51,8 +51,9 @@ static int psc_cuda_batch_create(const psc_batch_options* options, psc_batch** o
         CUfunction* f;
         const char* name;
     } kernels[] = {{&cb->reset, "psc_reset_kernel"}, {&cb->run, "psc_run_kernel"}, {&cb->observe, "psc_observe_kernel"},
-                       {&cb->expand, "psc_expand_kernel"}};
+                   {&cb->expand, PSC_SEARCH_KERNELS ? "psc_expand_kernel" : nullptr}};
     for (const Named& k : kernels) {
+        if (!k.name) continue;
         if (int s = check(d.cuModuleGetFunction(k.f, cb->module, k.name), k.name)) return cleanup(s);
     }
     if (PSC_STATE_IN_SHARED) {
@@ -388,6 +389,10 @@ static int psc_cuda_expand(psc_batch* b, int32_t templateEnv, const void* keys, 
                            int32_t actionCount, void* children, uint8_t* flags, uint64_t* hashes, int32_t* estimates) {
     using namespace psc_game;
     using namespace psc_game::cuda;
+    if (!PSC_SEARCH_KERNELS) {
+        return fail(PSC_ERROR_BACKEND_UNAVAILABLE,
+                    "this plugin was built without search's GPU kernel (psc --search-kernels); CPU batches expand states");
+    }
     if (kExpandTooLarge) {
         return fail(PSC_ERROR_DEVICE, "this game's environments (" + std::to_string(sizeof(Env)) +
                                           " bytes) are too large to expand on the GPU: use the CPU backend");

@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
 # Gathers what the GPU checks need on the device machine into device/ (git-ignored;
-# name it in the device call's `carry`): the psc binary and the shared
-# libraries it needs that the device image lacks, and the corpus cases to replay
+# name it in the device call's `carry`): psc installed (bin/psc, and the NVRTC
+# module it loads from lib/psc), the shared libraries it needs that the device
+# image lacks, and the corpus cases to replay
 # (every testsuite trace and a spread sample of scraped traces), compressed.
 #   tools/device_bundle.sh [SCRAPED_SAMPLE]      (default 400)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 sample=${1:-400}
 corpus=../shared/corpus
-rm -rf device && mkdir -p device/bin device/lib
-cp build/cli/psc device/bin/
-strip device/bin/psc
+rm -rf device && mkdir -p device/lib
+cmake --install build --prefix device --strip > /dev/null
 for lib in libantlr4-runtime.so.4.9 libfmt.so.9; do cp "$(ldconfig -p | awk -v l=$lib '$1 == l {print $NF; exit}')" device/lib/; done
 stage=$(mktemp -d)
 /usr/bin/python3 - "$corpus" "$stage" "$sample" <<'PY'

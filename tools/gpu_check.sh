@@ -15,7 +15,9 @@
 #   expand    search's batched expansion on the GPU (psc bench --expand), every benchmark game's
 #             level 0 and sokoban's level 1, batch sweep
 #   solve     psc solve --backend cuda over every level of the benchmark games (bench/solve_report.py),
-#             SOLVE_ALGORITHM (default portfolio), SOLVE_SECONDS a level (default 60)
+#             SOLVE_ALGORITHM (default portfolio), SOLVE_SECONDS a level (default 60), SOLVE_JOBS games at once
+#   cpp       examples/cpp built against the installed psc in device/ (find_package): a CPU
+#             and a CUDA batch of sokoban stepped with the same actions must observe the same bytes
 # FAST_COMPILE sets psc's --fast-compile (compile, prebuild, bench, replay, sanitize);
 # GPU_STATE its --gpu-state (prebuild, bench, replay); GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
 # REPLAY_IDS (a file of case ids) limits it to some cases, REPLAY_SUITES to some suites,
@@ -145,8 +147,15 @@ for stage in "$@"; do
         ;;
     solve)
         $python bench/solve_report.py run --psc "$psc" --backend cuda --time-limit "${SOLVE_SECONDS:-60}" \
-            --algorithm "${SOLVE_ALGORITHM:-portfolio}" ${SOLVE_GAMES:+--games "$SOLVE_GAMES"} \
+            --algorithm "${SOLVE_ALGORITHM:-portfolio}" ${SOLVE_GAMES:+--games "$SOLVE_GAMES"} --jobs "${SOLVE_JOBS:-1}" \
             --out "$out/solve_cuda_${SOLVE_ALGORITHM:-portfolio}.jsonl"
+        ;;
+    cpp)
+        "$psc" games/sokoban.txt -o /tmp/sokoban-all.so --target all &&
+            cmake -S examples/cpp -B /tmp/psc-example -G Ninja -DCMAKE_PREFIX_PATH="$PWD/device" > /dev/null &&
+            cmake --build /tmp/psc-example > /dev/null &&
+            /tmp/psc-example/rollout /tmp/sokoban-all.so 1024 200 2>&1 | tee "$out/cpp_example.txt"
+        echo "cpp: exit $?"
         ;;
     *) echo "unknown stage $stage"; exit 2 ;;
     esac

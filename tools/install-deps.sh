@@ -5,10 +5,13 @@
 set -euo pipefail
 
 packages=(
-  cmake ninja-build g++ pkg-config
+  cmake ninja-build g++ pkg-config clang libclang-rt-dev
   antlr4 libantlr4-runtime-dev default-jre-headless
   libfmt-dev libcli11-dev catch2 nlohmann-json3-dev
   python3 python3-numpy python3-pytest python3-pil
+  dpkg-dev file                                    # cpack -G DEB: the package's library dependencies
+  python3-pip python3-setuptools python3-wheel     # pip install ./python, offline
+  tmux                                             # tests/play: psc play driven in a terminal
 )
 
 missing=()

@@ -393,6 +393,14 @@ void Scanner::objectsToken(LineCursor& s, bool sol) {
             }
             s.next();
             if (sol) pendingSprite_.emplace_back();
+            if (pendingSprite_.empty()) {
+                // A pixel after an object's name on its own line ("g."): there
+                // is no sprite row to extend, and the reference reports the
+                // sprite's size (tests/fuzz/regressions/frontend/sprite-pixel-after-name).
+                warning("sprites must be 5 pixels wide and 5 high", &s);
+                s.consume(matchUntilParen(s.rest()));
+                return;
+            }
             ast::ObjectDecl& object = game_.objects[game_.objectIndex.at(currentObject_)];
             pendingSprite_.back().push_back(static_cast<char>(c));
             object.spriteRows = pendingSprite_;

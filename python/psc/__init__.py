@@ -1,5 +1,7 @@
 """psc: PuzzleScript games compiled to step-function plugins, as vectorised environments."""
 
+__version__ = "0.1.0"  # pyproject.toml reads it from here
+
 from .build import CompileError, compile, emit_ir
 from .plugin import GameInfo, Plugin, PscError
 from .render import render_planes, save_gif

@@ -22,12 +22,21 @@ IR_SUFFIX = ".ir.json"
 # The game source travels with it too: text agents (psc.TextEnv) quote its rules.
 SOURCE_SUFFIX = ".source.txt"
 
-_REPO_ROOT = Path(__file__).resolve().parents[2]
+_PACKAGE_DIR = Path(__file__).resolve().parent
+_REPO_ROOT = _PACKAGE_DIR.parents[1]
+
+
+def _checkout_build() -> Optional[str]:
+    # Only the package in a source checkout (python/psc) uses the checkout's
+    # build; an installed copy (pip install ./python) finds psc on PATH.
+    if _REPO_ROOT / "python" / "psc" != _PACKAGE_DIR:
+        return None
+    return str(_REPO_ROOT / "build" / "cli" / "psc")
 
 
 def find_psc_binary(psc_binary: Optional[str] = None) -> str:
-    """The psc CLI: the argument, $PSC_BINARY, <repo>/build/cli/psc, then `psc` on PATH."""
-    for candidate in (psc_binary, os.environ.get("PSC_BINARY"), str(_REPO_ROOT / "build" / "cli" / "psc")):
+    """The psc CLI: the argument, $PSC_BINARY, <repo>/build/cli/psc (in a source checkout), then `psc` on PATH."""
+    for candidate in (psc_binary, os.environ.get("PSC_BINARY"), _checkout_build()):
         if candidate and os.path.isfile(candidate) and os.access(candidate, os.X_OK):
             return candidate
     on_path = shutil.which("psc")
@@ -36,6 +45,11 @@ def find_psc_binary(psc_binary: Optional[str] = None) -> str:
     raise FileNotFoundError(
         "cannot find the psc compiler: pass psc_binary=, set PSC_BINARY, build it in <repo>/build, or put psc on PATH"
     )
+
+
+def compiler_version(psc_binary: Optional[str] = None) -> str:
+    """`psc --version` of the compiler find_psc_binary finds: its version, and whether it can build CUDA plugins."""
+    return _run([find_psc_binary(psc_binary), "--version"], "asking psc its version").strip()
 
 
 def cache_dir() -> Path:

@@ -59,6 +59,17 @@ def main():
             ok = r.returncode == 1 and LOCATED.search(err) is not None
             print(f"{'ok  ' if ok else 'FAIL'} {name}: exit {r.returncode}; {err.splitlines()[0] if err else '(no message)'}"[:200])
             failures += 0 if ok else 1
+    # Inputs the front-end fuzzer found (tests/fuzz/regressions/frontend):
+    # an answer, an error or not, and no crash.
+    regressions = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "fuzz", "regressions", "frontend")
+    for name in sorted(os.listdir(regressions)):
+        try:
+            r = subprocess.run([PSC, "check", os.path.join(regressions, name)], capture_output=True, timeout=TIMEOUT_S)
+            ok = r.returncode in (0, 1)
+        except subprocess.TimeoutExpired:
+            ok = False
+        print(f"{'ok  ' if ok else 'FAIL'} fuzz regression {name}")
+        failures += 0 if ok else 1
     sys.exit(1 if failures else 0)
 
 

@@ -1,0 +1,215 @@
+#include "ChildProcess.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace psc {
+namespace {
+
+// The supervisor's handler for psc's death (and for SIGINT/SIGTERM/SIGHUP sent
+// to its group): the whole group, itself included, dies at once.
+void killOwnGroup(int) { kill(0, SIGKILL); }
+
+bool writeAll(int fd, const void* data, size_t size) {
+    const char* p = static_cast<const char*>(data);
+    while (size > 0) {
+        const ssize_t n = write(fd, p, size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        p += n;
+        size -= static_cast<size_t>(n);
+    }
+    return true;
+}
+
+// Between fork and exec only async-signal-safe calls: psc has threads.
+[[noreturn]] void superviseChild(pid_t parent, const char* path, char* const* argv, int logFd, int statusFd,
+                                 const ChildLimits& limits) {
+    setpgid(0, 0);
+    struct sigaction action {};
+    action.sa_handler = killOwnGroup;
+    sigemptyset(&action.sa_mask);
+    for (int s : {SIGTERM, SIGINT, SIGHUP}) sigaction(s, &action, nullptr);
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != parent) killOwnGroup(0);  // psc died before the request took effect
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, nullptr);
+    const pid_t child = fork();
+    if (child == 0) {
+        struct sigaction fallback {};
+        fallback.sa_handler = SIG_DFL;
+        sigemptyset(&fallback.sa_mask);
+        for (int s : {SIGTERM, SIGINT, SIGHUP}) sigaction(s, &fallback, nullptr);
+        if (limits.memoryBytes > 0) {
+            const rlimit limit{limits.memoryBytes, limits.memoryBytes};
+            setrlimit(RLIMIT_AS, &limit);
+        }
+        const int devNull = open("/dev/null", O_RDONLY);
+        if (devNull >= 0) dup2(devNull, 0);
+        dup2(logFd, 1);
+        dup2(logFd, 2);
+        execv(path, argv);
+        _exit(127);
+    }
+    int status = 0;
+    if (child < 0) {
+        status = -1;
+    } else {
+        while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+        }
+    }
+    writeAll(statusFd, &status, sizeof status);
+    _exit(0);
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+std::string findProgram(const std::string& name) {
+    if (name.empty()) return {};
+    if (name.find('/') != std::string::npos) return access(name.c_str(), X_OK) == 0 ? name : std::string();
+    const char* path = std::getenv("PATH");
+    std::string dirs = path && *path ? path : "/usr/local/bin:/usr/bin:/bin";
+    size_t begin = 0;
+    while (begin <= dirs.size()) {
+        size_t end = dirs.find(':', begin);
+        if (end == std::string::npos) end = dirs.size();
+        const std::string dir = end > begin ? dirs.substr(begin, end - begin) : ".";
+        const std::string candidate = dir + "/" + name;
+        struct stat st {};
+        if (stat(candidate.c_str(), &st) == 0 && S_ISREG(st.st_mode) && access(candidate.c_str(), X_OK) == 0) return candidate;
+        begin = end + 1;
+    }
+    return {};
+}
+
+ChildResult runChild(const std::vector<std::string>& argv, const std::string& logPath, const ChildLimits& limits) {
+    ChildResult r;
+    const auto start = std::chrono::steady_clock::now();
+    if (argv.empty()) {
+        r.error = "no program to run";
+        return r;
+    }
+    const std::string path = findProgram(argv[0]);
+    if (path.empty()) {
+        r.error = fmt::format("cannot find the program {}", argv[0]);
+        return r;
+    }
+    std::vector<char*> args;
+    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    const int logFd = open(logPath.empty() ? "/dev/null" : logPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (logFd < 0) {
+        r.error = fmt::format("cannot write {}: {}", logPath, std::strerror(errno));
+        return r;
+    }
+    int statusPipe[2];
+    if (pipe2(statusPipe, O_CLOEXEC) != 0) {
+        close(logFd);
+        r.error = fmt::format("cannot create a pipe: {}", std::strerror(errno));
+        return r;
+    }
+    const pid_t parent = getpid();
+    const pid_t supervisor = fork();
+    if (supervisor == 0) superviseChild(parent, path.c_str(), args.data(), logFd, statusPipe[1], limits);
+    close(statusPipe[1]);
+    close(logFd);
+    if (supervisor < 0) {
+        close(statusPipe[0]);
+        r.error = fmt::format("cannot start {}: {}", argv[0], std::strerror(errno));
+        return r;
+    }
+    // Both sides set the group, so that a kill at the deadline reaches it
+    // even when the supervisor has not run yet.
+    setpgid(supervisor, supervisor);
+    r.started = true;
+    int status = 0;
+    size_t got = 0;
+    for (;;) {
+        int waitMs = -1;
+        if (limits.wallSeconds > 0) {
+            const double left = limits.wallSeconds - secondsSince(start);
+            if (left <= 0) {
+                r.timedOut = true;
+                break;
+            }
+            waitMs = static_cast<int>(left * 1000) + 1;
+        }
+        pollfd pfd{statusPipe[0], POLLIN, 0};
+        const int ready = poll(&pfd, 1, waitMs);
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready == 0) continue;  // the deadline check above ends it
+        const ssize_t n = read(statusPipe[0], reinterpret_cast<char*>(&status) + got, sizeof status - got);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;  // the supervisor died without a report
+        got += static_cast<size_t>(n);
+        if (got == sizeof status) break;
+    }
+    close(statusPipe[0]);
+    if (r.timedOut || got != sizeof status) kill(-supervisor, SIGKILL);
+    int supervisorStatus = 0;
+    while (waitpid(supervisor, &supervisorStatus, 0) < 0 && errno == EINTR) {
+    }
+    r.seconds = secondsSince(start);
+    if (r.timedOut) return r;
+    if (got != sizeof status || status == -1) {
+        r.error = fmt::format("{} ended without a status", argv[0]);
+        r.signal = WIFSIGNALED(supervisorStatus) ? WTERMSIG(supervisorStatus) : 0;
+        return r;
+    }
+    if (WIFEXITED(status)) {
+        r.exitCode = WEXITSTATUS(status);
+        if (r.exitCode == 127) r.error = fmt::format("cannot run {}", path);
+    } else if (WIFSIGNALED(status)) {
+        r.signal = WTERMSIG(status);
+    }
+    return r;
+}
+
+ChildLimits defaultCompileLimits() {
+    ChildLimits limits;
+    limits.wallSeconds = kDefaultCompileSeconds;
+    if (const char* s = std::getenv("PSC_COMPILE_TIMEOUT"); s && *s) limits.wallSeconds = std::max(0.0, std::atof(s));
+    const long pages = sysconf(_SC_PHYS_PAGES);
+    const long pageSize = sysconf(_SC_PAGE_SIZE);
+    if (pages > 0 && pageSize > 0) limits.memoryBytes = static_cast<unsigned long long>(pages) * pageSize / 4 * 3;
+    if (const char* m = std::getenv("PSC_COMPILE_MEMORY_MB"); m && *m) {
+        limits.memoryBytes = static_cast<unsigned long long>(std::max(0.0, std::atof(m))) << 20;
+    }
+    return limits;
+}
+
+std::string limitMessage(const ChildResult& result, const ChildLimits& limits, const std::string& log) {
+    if (result.timedOut) {
+        return fmt::format("stopped at the compile time limit of {:g} s (PSC_COMPILE_TIMEOUT=seconds sets it, 0: none)",
+                           limits.wallSeconds);
+    }
+    if (limits.memoryBytes == 0 || result.ok()) return {};
+    const bool outOfMemory = log.find("memory exhausted") != std::string::npos ||
+                             log.find("out of memory") != std::string::npos ||
+                             log.find("Cannot allocate memory") != std::string::npos ||
+                             log.find("std::bad_alloc") != std::string::npos;
+    if (!outOfMemory) return {};
+    return fmt::format("ran out of memory at the compile memory limit of {} MB of address space "
+                       "(PSC_COMPILE_MEMORY_MB=megabytes sets it, 0: none)",
+                       limits.memoryBytes >> 20);
+}
+
+}  // namespace psc

@@ -1,0 +1,52 @@
+// Running an external compiler (c++, nvcc) so that it never outlives psc and
+// never runs unbounded: no shell, its own process group, a wall-clock limit
+// and an address-space limit.
+//
+// Each child runs under a small supervisor process (forked, not exec'd) that
+// leads the child's process group and asks the kernel to signal it when psc
+// dies (PR_SET_PDEATHSIG).  However psc ends - a normal exit, SIGINT, SIGTERM,
+// a caller's timeout sending SIGKILL - the supervisor then kills the whole
+// group: the compiler driver and what it started (cc1plus, as, ptxas).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace psc {
+
+struct ChildLimits {
+    double wallSeconds = 0;       // 0: none
+    unsigned long long memoryBytes = 0;  // RLIMIT_AS of the child (each of its processes); 0: none
+};
+
+struct ChildResult {
+    bool started = false;   // false: it could not be run (error says why)
+    int exitCode = -1;      // the child's exit status, when it exited
+    int signal = 0;         // the signal that ended it, when one did
+    bool timedOut = false;  // killed at limits.wallSeconds
+    double seconds = 0;
+    std::string error;
+
+    bool ok() const { return started && !timedOut && signal == 0 && exitCode == 0; }
+};
+
+// Runs argv[0] (searched in PATH when it has no '/') with argv, its stdout and
+// stderr written to `logPath` (empty: /dev/null), and waits for it.
+ChildResult runChild(const std::vector<std::string>& argv, const std::string& logPath, const ChildLimits& limits);
+
+// The program's path: `name` when it has a '/', else its first match in PATH;
+// empty when there is none.
+std::string findProgram(const std::string& name);
+
+// The default limits of compiler processes: $PSC_COMPILE_TIMEOUT seconds
+// (default kDefaultCompileSeconds) and $PSC_COMPILE_MEMORY_MB megabytes of
+// address space (default: three quarters of the machine's memory).
+constexpr double kDefaultCompileSeconds = 300;
+ChildLimits defaultCompileLimits();
+
+// What a failed child was stopped by, in words that name the limit (and the
+// variable that sets it), or the empty string when no limit stopped it.
+// `log` is the child's output (a compiler out of memory says so there).
+std::string limitMessage(const ChildResult& result, const ChildLimits& limits, const std::string& log);
+
+}  // namespace psc

@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# Runs psc's libFuzzer targets (fuzz/): first every regression input of a
+# target (tests/fuzz/regressions/TARGET/), then a fresh run of SECONDS seeded
+# from the bundled games, the reference corpus' games and the regression
+# inputs.  Prints each target's executions and the total; new crashes, hangs,
+# leaks and sanitizer reports are saved under the findings folder and make the
+# script fail.
+#
+# Usage: tools/fuzz_campaign.sh [--build DIR] [--seconds N] [--corpus-sample N]
+#                               [--work DIR] [TARGET...]
+#   --build DIR          the fuzz build (cmake --preset fuzz; default build-fuzz)
+#   --seconds N          fresh fuzzing per target (default 60; 0: regressions only)
+#   --corpus-sample N    seed with N corpus games only (default: all of them)
+#   --work DIR           where generated inputs and findings go (default DIR/fuzz-work)
+#   TARGET               frontend, codegen, plugin_abi (default: all three)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=$root/build-fuzz
+seconds=60
+sample=0
+work=""
+targets=()
+while (($#)); do
+  case $1 in
+    --build) build=$(cd "$2" && pwd); shift 2 ;;
+    --seconds) seconds=$2; shift 2 ;;
+    --corpus-sample) sample=$2; shift 2 ;;
+    --work) work=$2; shift 2 ;;
+    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    *) targets+=("$1"); shift ;;
+  esac
+done
+((${#targets[@]})) || targets=(frontend codegen plugin_abi)
+work=${work:-$build/fuzz-work}
+corpus=${PSC_CORPUS_DIR:-$root/../shared/corpus}
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
+
+total=0
+failed=0
+for target in "${targets[@]}"; do
+  binary=$build/fuzz/psc-fuzz-$target
+  [ -x "$binary" ] || { echo "error: $binary is not built (cmake --preset fuzz && cmake --build --preset fuzz)"; exit 2; }
+  regressions=$root/tests/fuzz/regressions/$target
+  findings=$work/findings/$target
+  generated=$work/generated/$target
+  seeds=$work/seeds/$target
+  mkdir -p "$findings" "$generated" "$regressions"
+  # The same limits for replays and fresh runs: an input over them is a
+  # finding.  Code generation of a large game takes seconds under ASan, so its
+  # inputs (and seeds) are cut shorter.
+  max_len=65536
+  [ "$target" = codegen ] && max_len=16384
+  limits=(-timeout=30 -rss_limit_mb=4096 -max_len=$max_len)
+
+  inputs=("$regressions"/*)
+  if [ -e "${inputs[0]}" ]; then
+    if ! "$binary" "${limits[@]}" "${inputs[@]}" > "$work/$target.regressions.log" 2>&1; then
+      echo "FAIL $target: a regression input fails again (log: $work/$target.regressions.log)"
+      failed=1
+      continue
+    fi
+    echo "ok   $target: ${#inputs[@]} regression inputs"
+  fi
+  ((seconds > 0)) || continue
+
+  rm -rf "$seeds"
+  mkdir -p "$seeds"
+  dictionary=()
+  if [ "$target" != plugin_abi ]; then  # the ABI target's inputs are call sequences, not games
+    dictionary=(-dict="$root/fuzz/puzzlescript.dict")
+    cp "$root"/games/*.txt "$seeds"/
+    if [ -d "$corpus" ]; then
+      sample_option=()
+      ((sample > 0)) && sample_option=(--sample "$sample")
+      python3 "$root/fuzz/seed_corpus.py" "$corpus" "$seeds" "${sample_option[@]}" > /dev/null
+    fi
+  fi
+  log=$work/$target.log
+  # Crashes, sanitizer reports, leaks, hangs and out-of-memory inputs; slow
+  # units (over 10 s) are kept there too, for information.
+  findings_count() { find "$findings" -type f \( -name 'crash-*' -o -name 'leak-*' -o -name 'timeout-*' -o -name 'oom-*' \) | wc -l; }
+  before=$(findings_count)
+  status=0
+  "$binary" "${limits[@]}" -max_total_time="$seconds" -print_final_stats=1 -artifact_prefix="$findings/" \
+    "${dictionary[@]}" "$generated" "$seeds" "$regressions" > "$log" 2>&1 || status=$?
+  runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
+  runs=${runs:-0}
+  total=$((total + runs))
+  after=$(findings_count)
+  if ((status != 0 || after > before)); then
+    echo "FAIL $target: $runs executions in ${seconds} s; new findings in $findings (log: $log)"
+    failed=1
+  else
+    echo "ok   $target: $runs executions in ${seconds} s"
+  fi
+done
+echo "total: $total executions"
+exit $failed
