@@ -7,6 +7,7 @@ from .plugin import GameInfo, Plugin, PscError
 from .render import render_planes, save_gif
 from .solve import SolveError, solve
 from .vector_env import Buffers, EnvState, VectorEnv
+from .agents.text_env import TextEnv, TextVectorEnv
 
 __all__ = [
     "Buffers",
@@ -15,6 +16,8 @@ __all__ = [
     "GameInfo",
     "Plugin",
     "PscError",
+    "TextEnv",
+    "TextVectorEnv",
     "VectorEnv",
     "compile",
     "emit_ir",

@@ -2,8 +2,9 @@
 python3 -m psc --version
 
 build: builds a plugin and writes it with its IR (OUT.ir.json, for shaped
-rewards), ready to copy to a machine that has no psc compiler.  --version:
-this package's version and the psc compiler it uses.
+rewards) and its source (OUT.source.txt, for text agents), ready to copy to a
+machine that has no psc compiler.  --version: this package's version and the
+psc compiler it uses.
 """
 
 import argparse
@@ -12,7 +13,7 @@ import shutil
 import sys
 
 from . import __version__
-from .build import TARGETS, CompileError, compile, compiler_version, find_psc_binary, ir_path_for
+from .build import TARGETS, CompileError, compile, compiler_version, find_psc_binary, ir_path_for, source_path_for
 
 PSC_HELP = "the psc compiler (default: $PSC_BINARY, <repo>/build/cli/psc in a source checkout, then PATH)"
 
@@ -51,7 +52,8 @@ def main(argv=None) -> int:
     os.makedirs(os.path.dirname(os.path.abspath(args.output)), exist_ok=True)
     shutil.copyfile(plugin, args.output)
     shutil.copyfile(ir_path_for(plugin), ir_path_for(args.output))
-    print(f"{args.output}\n{ir_path_for(args.output)}")
+    shutil.copyfile(source_path_for(plugin), source_path_for(args.output))
+    print(f"{args.output}\n{ir_path_for(args.output)}\n{source_path_for(args.output)}")
     return 0
 
 

@@ -19,6 +19,8 @@ TARGETS = ("cpu", "cuda", "all")
 # The IR (win conditions, object names) travels with each plugin in this file,
 # so that a plugin copied to another machine can still compute shaped rewards.
 IR_SUFFIX = ".ir.json"
+# The game source travels with it too: text agents (psc.TextEnv) quote its rules.
+SOURCE_SUFFIX = ".source.txt"
 
 _PACKAGE_DIR = Path(__file__).resolve().parent
 _REPO_ROOT = _PACKAGE_DIR.parents[1]
@@ -63,6 +65,12 @@ def ir_path_for(plugin_path: str) -> str:
     """Where compile() puts the IR of a plugin: beside it, .so replaced by .ir.json."""
     root, ext = os.path.splitext(plugin_path)
     return (root if ext == ".so" else plugin_path) + IR_SUFFIX
+
+
+def source_path_for(plugin_path: str) -> str:
+    """Where compile() puts the game source of a plugin: beside it, .so replaced by .source.txt."""
+    root, ext = os.path.splitext(plugin_path)
+    return (root if ext == ".so" else plugin_path) + SOURCE_SUFFIX
 
 
 class CompileError(RuntimeError):
@@ -124,7 +132,8 @@ def compile(
     levels: playable levels to build (numbered from 0), None for all; fewer
     levels give smaller boards and faster steps.  target: "cpu", "cuda" or
     "all" (CUDA and CPU).  The game's IR is written beside the plugin
-    (ir_path_for) for shaped rewards.
+    (ir_path_for) for shaped rewards, and the source (source_path_for) for
+    text agents.
     """
     if target not in TARGETS:
         raise ValueError(f"target must be one of {TARGETS}, not {target!r}")
@@ -149,4 +158,7 @@ def compile(
         _write_atomically(
             cache_dir(), plugin.name, lambda p: _run([binary, str(game_path), "-o", p] + extra, "building the plugin")
         )
+    source = Path(source_path_for(str(plugin)))
+    if not source.exists():  # also for plugins cached before sources were kept
+        _write_atomically(cache_dir(), source.name, lambda p: Path(p).write_bytes(text))
     return str(plugin)
