@@ -10,7 +10,8 @@ corpus-wide measure of docs/search.md.
 `run` searches each level with one CPU thread (--threads 1) and --keep-going
 (the reference plays games with a few errors); a game whose plugin does not
 build within --build-seconds counts its levels as not solved.  --part K/M
-takes every M-th game from the K-th, to split a run across calls."""
+takes every M-th game from the K-th, and --skip R.jsonl leaves out the games
+those results hold, to split a run across calls."""
 
 import argparse
 import concurrent.futures
@@ -58,9 +59,15 @@ def run(a):
     games = sorted(glob.glob(os.path.join(a.games, "*.txt")))
     k, m = (int(x) for x in a.part.split("/"))
     games = games[k::m]
+    done = set()
+    for path in a.skip:
+        done |= {json.loads(line)["game"] for line in open(path)}
+    games = [g for g in games if os.path.basename(g) not in done]
+    # Results are written as games finish, so that a run cut short keeps them.
     with open(a.out, "w") as out, concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        for n, result in enumerate(pool.map(lambda g: solve_game(a, g), games), 1):
-            out.write(json.dumps(result) + "\n")
+        futures = [pool.submit(solve_game, a, g) for g in games]
+        for n, future in enumerate(concurrent.futures.as_completed(futures), 1):
+            out.write(json.dumps(future.result()) + "\n")
             out.flush()
             if n % 50 == 0:
                 print(f"{n}/{len(games)} games", flush=True)
@@ -98,6 +105,7 @@ def main():
     r.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     r.add_argument("--build-seconds", type=float, default=180)
     r.add_argument("--part", default="0/1")
+    r.add_argument("--skip", nargs="*", default=[])
     s = sub.add_parser("summary")
     s.add_argument("files", nargs="+")
     a = ap.parse_args()

@@ -51,7 +51,6 @@ int runBench(const BenchOptions& o) {
         fmt::print(stderr, "psc bench: level {} out of range [0, {})\n", o.level, info.level_count);
         return 2;
     }
-    if (o.expand) return runExpandBench(o, *plugin);
     std::optional<CudaTimer> timer;
     if (cuda) {
         std::string error;
@@ -61,6 +60,7 @@ int runBench(const BenchOptions& o) {
             return 2;
         }
     }
+    if (o.expand) return runExpandBench(o, *plugin, timer);
     std::vector<Row> rows;
     bool failed = false;
     fmt::print("{:>10} {:>8} {:>16} {:>16} {:>16}\n", "batch", "steps", "median steps/s", "min steps/s", "max steps/s");

@@ -49,20 +49,11 @@ std::vector<uint64_t> frontier(search::StateSpace& space, size_t wanted) {
 
 }  // namespace
 
-int runExpandBench(const BenchOptions& o, const Plugin& plugin) {
+int runExpandBench(const BenchOptions& o, const Plugin& plugin, std::optional<CudaTimer>& timer) {
     const bool cuda = o.backend == "cuda";
     std::vector<int> batches = o.batches;
     if (batches.empty()) batches = cuda ? std::vector<int>{1024, 16384, 262144, 1048576} : std::vector<int>{4096};
     const size_t largest = static_cast<size_t>(*std::max_element(batches.begin(), batches.end()));
-    std::optional<CudaTimer> timer;
-    if (cuda) {
-        std::string error;
-        timer = CudaTimer::create(0, &error);
-        if (!timer) {
-            fmt::print(stderr, "psc bench: {}\n", error);
-            return 2;
-        }
-    }
     try {
         search::SpaceOptions so;
         so.backend = cuda ? search::Backend::Cuda : search::Backend::Cpu;

@@ -6,10 +6,14 @@
 // median, min and max of the repeats after warm-up (CUDA events on the GPU).
 #pragma once
 
+#include <optional>
+
 #include "Bench.h"
+#include "CudaTimer.h"
 
 namespace psc::cli {
 
-int runExpandBench(const BenchOptions& options, const Plugin& plugin);
+// `timer` times the GPU (set for --backend cuda).
+int runExpandBench(const BenchOptions& options, const Plugin& plugin, std::optional<CudaTimer>& timer);
 
 }  // namespace psc::cli

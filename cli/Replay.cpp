@@ -145,9 +145,10 @@ int runReplay(const ReplayOptions& options) {
                 fmt::print(stderr, "{}: error: unknown input {}\n", options.casePath, inputs[i].dump());
                 return 2;
             }
-            int32_t a = action;
+            // With --check-keys environment 1 is the keys' template, reset before each use: it steps along unseen.
+            const int32_t a[2] = {action, action};
             const auto start = Clock::now();
-            batch.check(plugin->step(batch.get(), &a, nullptr), "stepping");
+            batch.check(plugin->step(batch.get(), a, nullptr), "stepping");
             stepSeconds += secondsSince(start);
             if (options.build.build.verbose && secondsSince(lastProgress) >= 10) {
                 fmt::print(stderr, "psc: {} of {} inputs stepped ({:.2f} s)\n", i + 1, inputs.size(), stepSeconds);
