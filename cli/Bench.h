@@ -1,7 +1,9 @@
 // psc bench: steps/s of a game's plugin on random actions with automatic
 // reset on a win (the plugin's fused rollout).  Prints one row per batch size
 // (median and min of the repeats, warm-up excluded; CUDA events on the GPU)
-// and a last line `steps/s: <median of the best batch size>`.
+// and a last line `steps/s: <median of the best batch size>`.  With --devices,
+// one batch of each size on every device listed, stepped at once: the rows are
+// the devices' steps/s together, timed by the host's clock.
 #pragma once
 
 #include <string>
@@ -20,6 +22,8 @@ struct BenchOptions {
     int repeats = 5;
     int warmup = 1;
     std::string backend = "cpu";
+    int device = 0;            // CUDA ordinal
+    std::vector<int> devices;  // several CUDA ordinals: one batch on each, stepped at once (aggregate steps/s)
     bool allLevels = false;  // build every level (default: only the one measured)
     bool expand = false;     // measure psc_expand (BenchExpand.h) instead of stepping
     GameBuildOptions build;

@@ -58,6 +58,7 @@ int runExpandBench(const BenchOptions& o, const Plugin& plugin, std::optional<Cu
         search::SpaceOptions so;
         so.backend = cuda ? search::Backend::Cuda : search::Backend::Cpu;
         so.threads = o.threads;
+        so.device = o.device;
         so.maxBatch = largest;
         search::StateSpace space(plugin, so, o.level, "");
         const std::vector<uint64_t> keys = frontier(space, largest);

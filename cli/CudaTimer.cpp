@@ -9,7 +9,8 @@ struct Driver {
     int (*cuInit)(unsigned) = nullptr;
     int (*cuDeviceGet)(int*, int) = nullptr;
     int (*cuDevicePrimaryCtxRetain)(void**, int) = nullptr;
-    int (*cuCtxSetCurrent)(void*) = nullptr;
+    int (*cuCtxPushCurrent)(void*) = nullptr;
+    int (*cuCtxPopCurrent)(void**) = nullptr;
     int (*cuEventCreate)(void**, unsigned) = nullptr;
     int (*cuEventRecord)(void*, void*) = nullptr;
     int (*cuEventSynchronize)(void*) = nullptr;
@@ -27,13 +28,14 @@ Driver* driver() {
             d.cuInit = reinterpret_cast<decltype(d.cuInit)>(dlsym(lib, "cuInit"));
             d.cuDeviceGet = reinterpret_cast<decltype(d.cuDeviceGet)>(dlsym(lib, "cuDeviceGet"));
             d.cuDevicePrimaryCtxRetain = reinterpret_cast<decltype(d.cuDevicePrimaryCtxRetain)>(dlsym(lib, "cuDevicePrimaryCtxRetain"));
-            d.cuCtxSetCurrent = reinterpret_cast<decltype(d.cuCtxSetCurrent)>(dlsym(lib, "cuCtxSetCurrent"));
+            d.cuCtxPushCurrent = reinterpret_cast<decltype(d.cuCtxPushCurrent)>(dlsym(lib, "cuCtxPushCurrent_v2"));
+            d.cuCtxPopCurrent = reinterpret_cast<decltype(d.cuCtxPopCurrent)>(dlsym(lib, "cuCtxPopCurrent_v2"));
             d.cuEventCreate = reinterpret_cast<decltype(d.cuEventCreate)>(dlsym(lib, "cuEventCreate"));
             d.cuEventRecord = reinterpret_cast<decltype(d.cuEventRecord)>(dlsym(lib, "cuEventRecord"));
             d.cuEventSynchronize = reinterpret_cast<decltype(d.cuEventSynchronize)>(dlsym(lib, "cuEventSynchronize"));
             d.cuEventElapsedTime = reinterpret_cast<decltype(d.cuEventElapsedTime)>(dlsym(lib, "cuEventElapsedTime_v2"));
             if (!d.cuEventElapsedTime) d.cuEventElapsedTime = reinterpret_cast<decltype(d.cuEventElapsedTime)>(dlsym(lib, "cuEventElapsedTime"));
-            ok = d.cuInit && d.cuDeviceGet && d.cuDevicePrimaryCtxRetain && d.cuCtxSetCurrent && d.cuEventCreate &&
+            ok = d.cuInit && d.cuDeviceGet && d.cuDevicePrimaryCtxRetain && d.cuCtxPushCurrent && d.cuCtxPopCurrent && d.cuEventCreate &&
                  d.cuEventRecord && d.cuEventSynchronize && d.cuEventElapsedTime;
         }
     }
@@ -50,23 +52,38 @@ std::optional<CudaTimer> CudaTimer::create(int device, std::string* error) {
     }
     int dev = 0;
     void* ctx = nullptr;
-    if (d->cuInit(0) || d->cuDeviceGet(&dev, device) || d->cuDevicePrimaryCtxRetain(&ctx, dev) || d->cuCtxSetCurrent(ctx)) {
-        *error = "no usable CUDA device";
+    if (d->cuInit(0) || d->cuDeviceGet(&dev, device) || d->cuDevicePrimaryCtxRetain(&ctx, dev)) {
+        *error = "no usable CUDA device " + std::to_string(device);
         return std::nullopt;
     }
     CudaTimer t;
-    if (d->cuEventCreate(&t.begin_, 0) || d->cuEventCreate(&t.end_, 0)) {
+    t.context_ = ctx;
+    d->cuCtxPushCurrent(ctx);
+    const bool created = !d->cuEventCreate(&t.begin_, 0) && !d->cuEventCreate(&t.end_, 0);
+    void* popped = nullptr;
+    d->cuCtxPopCurrent(&popped);
+    if (!created) {
         *error = "cannot create CUDA events";
         return std::nullopt;
     }
     return t;
 }
 
-void CudaTimer::start() { driver()->cuEventRecord(begin_, nullptr); }
+// Events go on the default stream of the timer's device, whatever context the caller has current.
+void CudaTimer::start() {
+    Driver* d = driver();
+    void* popped = nullptr;
+    d->cuCtxPushCurrent(context_);
+    d->cuEventRecord(begin_, nullptr);
+    d->cuCtxPopCurrent(&popped);
+}
 
 double CudaTimer::stop() {
     Driver* d = driver();
+    void* popped = nullptr;
+    d->cuCtxPushCurrent(context_);
     d->cuEventRecord(end_, nullptr);
+    d->cuCtxPopCurrent(&popped);
     d->cuEventSynchronize(end_);
     float ms = 0;
     d->cuEventElapsedTime(&ms, begin_, end_);

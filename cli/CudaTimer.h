@@ -1,5 +1,5 @@
-// Timing device work with CUDA events on the default stream of the primary
-// context (the one psc plugins use), through the driver found at run time.
+// Timing device work with CUDA events on the default stream of one device's
+// primary context (the one psc plugins use), through the driver found at run time.
 #pragma once
 
 #include <optional>
@@ -17,6 +17,7 @@ public:
 
 private:
     CudaTimer() = default;
+    void* context_ = nullptr;  // the device's primary context
     void* begin_ = nullptr;
     void* end_ = nullptr;
 };

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include "CacheFile.h"
 #include "Diagnose.h"
 #include "base/Sha1.h"
 
@@ -44,18 +45,6 @@ std::string readFile(const fs::path& p) {
     std::stringstream ss;
     ss << in.rdbuf();
     return ss.str();
-}
-
-bool writeFile(const fs::path& p, const std::string& data) {
-    const fs::path tmp = p.string() + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        out << data;
-        if (!out.flush()) return false;
-    }
-    std::error_code ec;
-    fs::rename(tmp, p, ec);
-    return !ec;
 }
 
 // The compile units' PTX texts in one cache file, separated by NUL bytes.
@@ -142,8 +131,8 @@ std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const s
     fmt::print(stderr, "psc: CUDA compile ({}{}) {:.2f} s\n", options.cuda.compiler,
                r.units > 1 ? fmt::format(", {} units", r.units) : std::string(), r.seconds);
     fs::create_directories(dir, ec);
-    const bool stored = writeFile(cubinPath, std::string(r.cubin.begin(), r.cubin.end())) &&
-                        writeFile(ptxPath, joinUnits(r.ptx)) && writeFile(logPath, r.log);
+    const bool stored = writeCacheFile(cubinPath, std::string_view(r.cubin.data(), r.cubin.size())) &&
+                        writeCacheFile(ptxPath, joinUnits(r.ptx)) && writeCacheFile(logPath, r.log);
     if (files) {
         if (!stored) {
             fmt::print(stderr, "{}: error: cannot write the CUDA code into the cache {}\n", path, dir.string());

@@ -101,6 +101,7 @@ int runReplay(const ReplayOptions& options) {
         psc_batch_options bo = defaultBatchOptions();
         bo.undo_depth = kReplayUndoDepth;
         bo.backend = options.backend == "cuda" ? PSC_BACKEND_CUDA : PSC_BACKEND_CPU;
+        bo.device = options.device;
         // Under --verbose: where a replay's time goes (a GPU replay steps one
         // environment on one thread, so its stepping can outweigh the compile).
         const auto created = Clock::now();

@@ -11,6 +11,7 @@ namespace psc::cli {
 struct ReplayOptions {
     std::string casePath;
     std::string backend = "cpu";
+    int device = 0;  // CUDA ordinal (--backend cuda)
     std::string dumpPath;  // JSON lines: the initial state and the state after every input
     // Also check every level state's key (templates/state_key.h): decoded over
     // a fresh start of the entry shown, it must give back the same state.

@@ -117,6 +117,7 @@ int runSolve(const SolveCommandOptions& o) {
     so.weight = o.weight;
     so.space.backend = o.backend == "cuda" ? search::Backend::Cuda : search::Backend::Cpu;
     so.space.threads = o.threads;
+    so.space.device = o.device;
     so.space.seed = o.seed;
     so.fromInputs = o.fromInputs;
     bool allSolved = true;

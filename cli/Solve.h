@@ -19,6 +19,7 @@ struct SolveCommandOptions {
     std::string algorithm = "bfs";
     std::string backend = "cpu";
     int threads = 1;
+    int device = 0;  // CUDA ordinal (--backend cuda)
     double timeLimit = 60;
     uint64_t maxStates = 0;
     double maxMemoryMb = 0;  // 0: half of the machine's memory

@@ -166,6 +166,7 @@ int main(int argc, char** argv) {
     CLI::App* replay = app.add_subcommand("replay", "replay a corpus trace case and compare every state with it");
     replay->add_option("case", replayOptions.casePath, "the case file (JSON)")->required();
     replay->add_option("--backend", replayOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
+    replay->add_option("--device", replayOptions.device, "CUDA device ordinal (--backend cuda)")->check(CLI::Range(0, 1023));
     replay->add_option("--fast-compile", replayOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     replay->add_option("--gpu-state", replayOptions.build.gpuState, gpuStateHelp)->check(gpuStates);
     replay->add_option("--cuda-units", replayOptions.build.cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
@@ -183,6 +184,10 @@ int main(int argc, char** argv) {
     bench->add_option("--repeats", benchOptions.repeats, "timed runs (the median is reported)");
     bench->add_option("--warmup", benchOptions.warmup, "untimed runs first");
     bench->add_option("--backend", benchOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
+    bench->add_option("--device", benchOptions.device, "CUDA device ordinal")->check(CLI::Range(0, 1023));
+    bench->add_option("--devices", benchOptions.devices, "several CUDA devices (0,1,...): one batch each, stepped at once")
+        ->delimiter(',')
+        ->excludes("--device");
     bench->add_option("--fast-compile", benchOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     bench->add_option("--gpu-state", benchOptions.build.gpuState, gpuStateHelp)->check(gpuStates);
     bench->add_option("--cuda-units", benchOptions.build.cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
@@ -200,6 +205,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"bfs", "astar", "wastar", "greedy", "portfolio"}));
     solve->add_option("--backend", solveOptions.backend, "where states are expanded: cpu or cuda")
         ->check(CLI::IsMember({"cpu", "cuda"}));
+    solve->add_option("--device", solveOptions.device, "CUDA device ordinal (--backend cuda)")->check(CLI::Range(0, 1023));
     solve->add_option("--threads", solveOptions.threads, "CPU threads expanding states")->check(CLI::PositiveNumber);
     solve->add_option("--time-limit", solveOptions.timeLimit, "seconds per level")->check(CLI::PositiveNumber);
     solve->add_option("--max-states", solveOptions.maxStates, "distinct states per level; 0: no limit but memory");

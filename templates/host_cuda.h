@@ -30,7 +30,8 @@ struct Driver {
     CUresult (*cuDeviceGetAttribute)(int*, int, CUdevice);
     CUresult (*cuDevicePrimaryCtxRetain)(CUcontext*, CUdevice);
     CUresult (*cuDevicePrimaryCtxRelease)(CUdevice);
-    CUresult (*cuCtxSetCurrent)(CUcontext);
+    CUresult (*cuCtxPushCurrent)(CUcontext);
+    CUresult (*cuCtxPopCurrent)(CUcontext*);
     CUresult (*cuCtxGetLimit)(size_t*, int);
     CUresult (*cuCtxSetLimit)(int, size_t);
     CUresult (*cuModuleLoadData)(CUmodule*, const void*);
@@ -74,7 +75,8 @@ Driver& driver() {
         load(d.cuDeviceGetAttribute, "cuDeviceGetAttribute");
         load(d.cuDevicePrimaryCtxRetain, "cuDevicePrimaryCtxRetain");
         load(d.cuDevicePrimaryCtxRelease, "cuDevicePrimaryCtxRelease_v2");
-        load(d.cuCtxSetCurrent, "cuCtxSetCurrent");
+        load(d.cuCtxPushCurrent, "cuCtxPushCurrent_v2");
+        load(d.cuCtxPopCurrent, "cuCtxPopCurrent_v2");
         load(d.cuCtxGetLimit, "cuCtxGetLimit");
         load(d.cuCtxSetLimit, "cuCtxSetLimit");
         load(d.cuModuleLoadData, "cuModuleLoadData");
@@ -131,6 +133,24 @@ CUresult loadModule(CUmodule* module) {
     return r;
 }
 
+// Makes a batch's context current for one call and then gives the caller's
+// back: a process that drives several GPUs (or PyTorch, whose current device
+// follows the current context) must not find another device selected after
+// stepping a batch.
+class ContextScope {
+public:
+    explicit ContextScope(CUcontext context) : pushed_(context && driver().cuCtxPushCurrent(context) == 0) {}
+    ~ContextScope() {
+        CUcontext popped = nullptr;
+        if (pushed_) driver().cuCtxPopCurrent(&popped);
+    }
+    ContextScope(const ContextScope&) = delete;
+    ContextScope& operator=(const ContextScope&) = delete;
+
+private:
+    bool pushed_;
+};
+
 int check(CUresult r, const char* what) {
     if (r == 0) return PSC_OK;
     const char* text = nullptr;
@@ -159,7 +179,7 @@ struct Batch {
 
     ~Batch() {
         Driver& d = driver();
-        d.cuCtxSetCurrent(context);
+        ContextScope scope(context);
         for (CUdeviceptr p : allocations) d.cuMemFree(p);
         if (module) d.cuModuleUnload(module);
         if (context) d.cuDevicePrimaryCtxRelease(device);

@@ -34,7 +34,7 @@ static int psc_cuda_batch_create(const psc_batch_options* options, psc_batch** o
         cb->context = nullptr;
         return cleanup(s);
     }
-    if (int s = check(d.cuCtxSetCurrent(cb->context), "selecting the CUDA context")) return cleanup(s);
+    ContextScope scope(cb->context);
     constexpr int kStackLimit = 0;  // CU_LIMIT_STACK_SIZE
     size_t stack = 0;
     if (int s = check(d.cuCtxGetLimit(&stack, kStackLimit), "reading the stack limit")) return cleanup(s);
@@ -149,7 +149,7 @@ static int psc_cuda_reset_entries(psc_batch* b, const int32_t* envIds, int32_t c
     using namespace psc_game::cuda;
     Batch* cb = of(b);
     Driver& d = driver();
-    d.cuCtxSetCurrent(cb->context);
+    ContextScope scope(cb->context);
     std::vector<int32_t> ids(static_cast<size_t>(count));
     std::vector<uint16_t> units(static_cast<size_t>(count) * kSeedUnits, 0);
     std::vector<uint8_t> lengths(static_cast<size_t>(count), 0);
@@ -216,7 +216,7 @@ namespace cuda {
 int run(psc_batch* b, int32_t steps, const int32_t* actions, uint64_t seed, float* rewards, uint8_t* terminated,
         uint8_t* truncated, uint8_t* won, int observe) {
     Batch* cb = of(b);
-    driver().cuCtxSetCurrent(cb->context);
+    ContextScope scope(cb->context);
     int actionCount = (kGameInfo.flags & PSC_FLAG_NOACTION) ? 4 : 5;
     unsigned long long first = cb->rolloutSteps;
     void* args[] = {&cb->dev, &steps, &actions, &seed, &actionCount, &first, &rewards, &terminated, &truncated, &won, &observe};
@@ -229,7 +229,7 @@ int run(psc_batch* b, int32_t steps, const int32_t* actions, uint64_t seed, floa
 int readCounters(psc_batch* b, unsigned long long counts[4]) {
     Batch* cb = of(b);
     Driver& d = driver();
-    d.cuCtxSetCurrent(cb->context);
+    ContextScope scope(cb->context);
     if (int s = cb->sync()) return s;
     const CUdeviceptr stats = reinterpret_cast<CUdeviceptr>(cb->dev.stats);
     if (int s = check(d.cuMemcpyDtoH(counts, stats, 4 * sizeof(unsigned long long)), "reading counters")) return s;
@@ -266,7 +266,7 @@ static int psc_cuda_step(psc_batch* b, const int32_t* actions, psc_step_result* 
     }
     Batch* cb = of(b);
     Driver& d = driver();
-    d.cuCtxSetCurrent(cb->context);
+    ContextScope scope(cb->context);
     const size_t n = static_cast<size_t>(b->numEnvs);
     if (int s = check(d.cuMemcpyHtoD(reinterpret_cast<CUdeviceptr>(cb->dev.actions), actions, sizeof(int32_t) * n), "uploading actions")) return s;
     if (int s = psc_cuda_step_buffers(b)) return s;
@@ -301,7 +301,7 @@ static int psc_cuda_observe(psc_batch* b, uint8_t* observations, size_t size) {
     const size_t bytes = static_cast<size_t>(kChannelCount) * kMaxWidth * kMaxHeight * static_cast<size_t>(b->numEnvs);
     if (size < bytes) return fail(PSC_ERROR_BUFFER_TOO_SMALL, "observations need " + std::to_string(bytes) + " bytes");
     Batch* cb = of(b);
-    driver().cuCtxSetCurrent(cb->context);
+    ContextScope scope(cb->context);
     void* args[] = {&cb->dev};
     if (int s = cb->launch(cb->observe, b->numEnvs, args)) return s;
     if (int s = cb->sync()) return s;
@@ -341,7 +341,7 @@ static int psc_cuda_fetch_env(const psc_batch* b, int env, psc_game::Env* out) {
     using namespace psc_game::cuda;
     Batch* cb = of(b);
     Driver& d = driver();
-    d.cuCtxSetCurrent(cb->context);
+    ContextScope scope(cb->context);
     if (int s = cb->sync()) return s;
     return check(d.cuMemcpyDtoH(out, reinterpret_cast<CUdeviceptr>(cb->dev.envs + env), sizeof(psc_game::Env)),
                  "reading an environment");
@@ -355,6 +355,7 @@ static int psc_cuda_read_state(const psc_batch* b, int env, psc_game::Env* out, 
     Batch* cb = of(b);
     if (!cb->dev.undoDepth) return PSC_OK;
     Driver& d = driver();
+    ContextScope scope(cb->context);
     int count = 0;
     int head = 0;
     if (int s = check(d.cuMemcpyDtoH(&count, reinterpret_cast<CUdeviceptr>(cb->dev.undoCount + env), sizeof(int)), "reading undo")) return s;
@@ -372,7 +373,7 @@ static int psc_cuda_write_state(psc_batch* b, int env, const psc_game::Env& in, 
     using namespace psc_game::cuda;
     Batch* cb = of(b);
     Driver& d = driver();
-    d.cuCtxSetCurrent(cb->context);
+    ContextScope scope(cb->context);
     if (int s = cb->sync()) return s;
     if (int s = check(d.cuMemcpyHtoD(reinterpret_cast<CUdeviceptr>(cb->dev.envs + env), &in, sizeof(Env)), "writing an environment")) return s;
     if (!cb->dev.undoDepth) return PSC_OK;
@@ -401,14 +402,14 @@ static int psc_cuda_expand(psc_batch* b, int32_t templateEnv, const void* keys, 
     if (pairs > INT32_MAX) return fail(PSC_ERROR_BAD_ARGUMENT, "count * action_count must be below 2^31");
     int n = static_cast<int>(pairs);
     Batch* cb = of(b);
-    driver().cuCtxSetCurrent(cb->context);
+    ContextScope scope(cb->context);
     void* args[] = {&cb->dev, &templateEnv, &keys, &count, &actions, &actionCount, &children, &flags, &hashes, &estimates};
     return cb->launch(cb->expand, n, args);
 }
 
 static int psc_cuda_alloc(psc_batch* b, size_t bytes, void** pointer) {
     using namespace psc_game::cuda;
-    driver().cuCtxSetCurrent(of(b)->context);
+    ContextScope scope(of(b)->context);
     CUdeviceptr p = 0;
     if (int s = check(driver().cuMemAlloc(&p, std::max<size_t>(bytes, 1)), "allocating device memory")) return s;
     *pointer = reinterpret_cast<void*>(p);
@@ -417,14 +418,14 @@ static int psc_cuda_alloc(psc_batch* b, size_t bytes, void** pointer) {
 
 static int psc_cuda_free(psc_batch* b, void* pointer) {
     using namespace psc_game::cuda;
-    driver().cuCtxSetCurrent(of(b)->context);
+    ContextScope scope(of(b)->context);
     return check(driver().cuMemFree(reinterpret_cast<CUdeviceptr>(pointer)), "freeing device memory");
 }
 
 static int psc_cuda_copy(psc_batch* b, void* destination, const void* source, size_t bytes) {
     using namespace psc_game::cuda;
     Batch* cb = of(b);
-    driver().cuCtxSetCurrent(cb->context);
+    ContextScope scope(cb->context);
     if (int s = cb->sync()) return s;
     return check(driver().cuMemcpy(reinterpret_cast<CUdeviceptr>(destination), reinterpret_cast<CUdeviceptr>(source), bytes),
                  "copying memory");

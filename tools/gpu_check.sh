@@ -18,6 +18,9 @@
 #             SOLVE_ALGORITHM (default portfolio), SOLVE_SECONDS a level (default 60), SOLVE_JOBS games at once
 #   cpp       examples/cpp built against the installed psc in device/ (find_package): a CPU
 #             and a CUDA batch of sokoban stepped with the same actions must observe the same bytes
+#   multigpu  (several GPUs) python/tests/test_multi_gpu.py; then for each of MULTI_GAMES (game:batches, batches
+#             per GPU) psc bench --devices over 1 and all GPUs (one process), and examples/torchrun_rollout.py
+#             on 1 and all GPUs at the last batch (one process a GPU)
 # FAST_COMPILE sets psc's --fast-compile (compile, prebuild, bench, replay, sanitize);
 # GPU_STATE its --gpu-state (prebuild, bench, replay); GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
 # REPLAY_IDS (a file of case ids) limits it to some cases, REPLAY_SUITES to some suites,
@@ -149,6 +152,29 @@ for stage in "$@"; do
         $python bench/solve_report.py run --psc "$psc" --backend cuda --time-limit "${SOLVE_SECONDS:-60}" \
             --algorithm "${SOLVE_ALGORITHM:-portfolio}" ${SOLVE_GAMES:+--games "$SOLVE_GAMES"} --jobs "${SOLVE_JOBS:-1}" \
             --out "$out/solve_cuda_${SOLVE_ALGORITHM:-portfolio}.jsonl"
+        ;;
+    multigpu)
+        mkdir -p "$out/multigpu"
+        gpus=$(nvidia-smi -L | wc -l)
+        all=$(seq -s, 0 $((gpus - 1)))
+        export PSC_BINARY=$psc PYTHONUNBUFFERED=1
+        $python -m pytest python/tests/test_multi_gpu.py -v -rs -p no:cacheprovider 2>&1 |
+            tee "$out/multigpu/test_multi_gpu.txt" | tail -6
+        for spec in ${MULTI_GAMES:-sokoban:1048576,4194304 slidings:1048576,4194304 atlas:262144,1048576}; do
+            name=${spec%%:*}
+            batches=${spec#*:}
+            for devices in 0 "$all"; do
+                "$psc" bench "bench/games/$name.txt" --backend cuda --devices "$devices" --batch "$batches" --repeats 5 \
+                    --warmup 1 "${fast[@]}" > "$out/multigpu/bench_$name.$devices.txt" 2>&1
+                echo "$name devices $devices, one process: $(tail -1 "$out/multigpu/bench_$name.$devices.txt")"
+            done
+            for n in 1 "$gpus"; do
+                timeout 300 $python -m torch.distributed.run --nproc-per-node "$n" examples/torchrun_rollout.py \
+                    --game "bench/games/$name.txt" --num-envs "${batches##*,}" --steps 20 \
+                    --json "$out/multigpu/torchrun_$name.$n.json" > "$out/multigpu/torchrun_$name.$n.txt" 2>&1
+                echo "$name torchrun $n: $(grep -E 'steps/s|FAIL|Error' "$out/multigpu/torchrun_$name.$n.txt" | tail -2)"
+            done
+        done
         ;;
     cpp)
         "$psc" games/sokoban.txt -o /tmp/sokoban-all.so --target all &&

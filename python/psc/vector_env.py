@@ -50,6 +50,21 @@ class Buffers:
     episode_steps: BufferView  # int32 (num_envs,)
 
 
+def cuda_ordinal(device) -> int:
+    """The CUDA ordinal of 3, "cuda:3", "cuda" (0) or torch.device("cuda", 3)."""
+    if isinstance(device, (int, np.integer)) and not isinstance(device, bool):
+        ordinal = int(device)
+    elif isinstance(device, str) and (device == "cuda" or device.startswith("cuda:")):
+        ordinal = int(device[5:]) if device[5:].isdigit() else (0 if device == "cuda" else -1)
+    elif getattr(device, "type", None) == "cuda":  # torch.device
+        ordinal = 0 if device.index is None else int(device.index)
+    else:
+        raise ValueError(f'device must be a CUDA ordinal, "cuda:N" or a torch.device, not {device!r}')
+    if ordinal < 0:
+        raise ValueError(f"device must be a CUDA ordinal (0, 1, ...), not {device!r}")
+    return ordinal
+
+
 def _is_plugin(path: str) -> bool:
     return os.path.splitext(path)[1] in (".so", ".dylib", ".dll")
 
@@ -72,6 +87,10 @@ class VectorEnv:
     full_action_space: the action space holds all 8 plugin actions (undo,
     restart, tick too) instead of the directions and action.  step() accepts
     all 8 either way; undo needs undo_depth > 0.
+    device: the CUDA device of a backend="cuda" batch: an ordinal, "cuda:N"
+    or a torch.device (under torchrun: the rank's LOCAL_RANK).  Every call
+    gives the caller's current CUDA context back, so one process may drive
+    batches on several devices next to PyTorch's own.
     """
 
     def __init__(
@@ -87,7 +106,7 @@ class VectorEnv:
         reward: str = "win",
         autoreset: bool = True,
         full_action_space: bool = False,
-        device: int = 0,
+        device: Union[int, str, object] = 0,
         psc_binary: Optional[str] = None,
     ):
         if backend not in BACKENDS:
@@ -122,7 +141,7 @@ class VectorEnv:
             undo_depth,
             _abi.AUTO_RESET_NEXT_STEP if autoreset else _abi.AUTO_RESET_OFF,
             max_episode_steps or 0,
-            device,
+            cuda_ordinal(device),
         )
         self.buffers = self._make_buffers()
         self._win_distance = self._make_win_distance(game, psc_binary) if reward == "shaped" else None

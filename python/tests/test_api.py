@@ -92,3 +92,21 @@ def test_game_source_is_compiled_on_the_fly():
         observations, _ = env.reset(seed=0)
         assert observations.shape[0] == 2
         assert env.info.title
+
+
+def test_device_names_a_cuda_ordinal(sokoban_plugin):
+    from types import SimpleNamespace
+
+    from psc.vector_env import cuda_ordinal
+
+    assert cuda_ordinal(2) == 2
+    assert cuda_ordinal(np.int64(1)) == 1
+    assert cuda_ordinal("cuda") == 0
+    assert cuda_ordinal("cuda:3") == 3
+    assert cuda_ordinal(SimpleNamespace(type="cuda", index=1)) == 1  # as torch.device("cuda", 1)
+    assert cuda_ordinal(SimpleNamespace(type="cuda", index=None)) == 0
+    for bad in (-1, "cpu", "cuda:x", True, 1.5, SimpleNamespace(type="cpu", index=None)):
+        with pytest.raises(ValueError, match="device must be"):
+            cuda_ordinal(bad)
+    with pytest.raises(ValueError, match="device must be"):
+        psc.VectorEnv(sokoban_plugin, num_envs=1, device="cpu")

@@ -1,5 +1,6 @@
 """Bad input never crashes or hangs psc: each case must end, within a time
-limit, with a non-zero exit and a located error message."""
+limit, with a non-zero exit and a located error message (bad command-line
+arguments: exit 2 and a message naming the problem)."""
 import os
 import re
 import subprocess
@@ -42,8 +43,28 @@ def cases():
     yield "NUL bytes", MINIMAL.replace("Player\nblue", "Pla\0yer\nblue").encode()
 
 
+GAME = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "games", "sokoban.txt")
+
+
+def argument_cases():
+    """Command lines psc refuses before building anything: exit 2 and a message naming the problem."""
+    yield ["bench", GAME, "--devices", "0,1"], "--devices needs --backend cuda"
+    yield ["bench", GAME, "--backend", "cuda", "--devices", "0,0"], "devices must be distinct"
+    yield ["bench", GAME, "--backend", "cuda", "--devices", "0,-1"], "devices must be distinct"
+    yield ["bench", GAME, "--backend", "cuda", "--devices", "0,1", "--expand"], "--expand measures one device"
+    yield ["bench", GAME, "--backend", "cuda", "--devices", "0", "--device", "1"], "excludes"
+    yield ["bench", GAME, "--device", "-1"], "--device"
+    yield ["solve", GAME, "--device", "-2"], "--device"
+
+
 def main():
     failures = 0
+    for args, expected in argument_cases():
+        r = subprocess.run([PSC] + args, capture_output=True, timeout=TIMEOUT_S)
+        err = r.stderr.decode("utf-8", "replace")
+        ok = r.returncode == 2 and expected in err
+        print(f"{'ok  ' if ok else 'FAIL'} psc {' '.join(args[:1] + args[2:])}: exit {r.returncode}; {err.strip()[:120]}")
+        failures += 0 if ok else 1
     with tempfile.TemporaryDirectory() as tmp:
         for name, data in cases():
             path = os.path.join(tmp, "game.txt")
