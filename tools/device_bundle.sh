@@ -4,6 +4,8 @@
 # module it loads from lib/psc), the shared libraries it needs that the device
 # image lacks, and the corpus cases to replay
 # (every testsuite trace and a spread sample of scraped traces), compressed.
+# With FUZZ=1, also the fuzz targets of build-fuzz (stripped) and their seed
+# games, for gpu_check.sh's fuzz stage.
 #   tools/device_bundle.sh [SCRAPED_SAMPLE]      (default 400)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -30,4 +32,12 @@ print(f"{len(chosen)} cases")
 PY
 tar -cJf device/corpus.tar.xz -C "$stage" .
 rm -rf "$stage"
+if [ "${FUZZ:-0}" = 1 ]; then
+    mkdir -p device/build-fuzz/fuzz
+    for target in build-fuzz/fuzz/psc-fuzz-*; do strip -o "device/$target" "$target"; done
+    seeds=$(mktemp -d)
+    /usr/bin/python3 fuzz/seed_corpus.py "$corpus" "$seeds" > /dev/null
+    tar -cJf device/fuzz-seeds.tar.xz -C "$seeds" .
+    rm -rf "$seeds"
+fi
 du -sh device

@@ -6,27 +6,33 @@
 # leaks and sanitizer reports are saved under the findings folder and make the
 # script fail.
 #
-# Usage: tools/fuzz_campaign.sh [--build DIR] [--seconds N] [--corpus-sample N]
-#                               [--work DIR] [TARGET...]
+# Usage: tools/fuzz_campaign.sh [--build DIR] [--seconds N] [--jobs N] [--corpus-sample N]
+#                               [--seeds DIR] [--work DIR] [TARGET...]
 #   --build DIR          the fuzz build (cmake --preset fuzz; default build-fuzz)
 #   --seconds N          fresh fuzzing per target (default 60; 0: regressions only)
+#   --jobs N             fuzzing processes per target at once, sharing the generated inputs (default 1)
 #   --corpus-sample N    seed with N corpus games only (default: all of them)
+#   --seeds DIR          seed games from this folder instead of the corpus (as fuzz/seed_corpus.py writes them)
 #   --work DIR           where generated inputs and findings go (default DIR/fuzz-work)
 #   TARGET               frontend, codegen, plugin_abi (default: all three)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=$root/build-fuzz
 seconds=60
+jobs=1
 sample=0
+seed_dir=""
 work=""
 targets=()
 while (($#)); do
   case $1 in
     --build) build=$(cd "$2" && pwd); shift 2 ;;
     --seconds) seconds=$2; shift 2 ;;
+    --jobs) jobs=$2; shift 2 ;;
     --corpus-sample) sample=$2; shift 2 ;;
+    --seeds) seed_dir=$(cd "$2" && pwd); shift 2 ;;
     --work) work=$2; shift 2 ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
     *) targets+=("$1"); shift ;;
   esac
 done
@@ -70,29 +76,39 @@ for target in "${targets[@]}"; do
   if [ "$target" != plugin_abi ]; then  # the ABI target's inputs are call sequences, not games
     dictionary=(-dict="$root/fuzz/puzzlescript.dict")
     cp "$root"/games/*.txt "$seeds"/
-    if [ -d "$corpus" ]; then
+    if [ -n "$seed_dir" ]; then
+      cp "$seed_dir"/* "$seeds"/
+    elif [ -d "$corpus" ]; then
       sample_option=()
       ((sample > 0)) && sample_option=(--sample "$sample")
       python3 "$root/fuzz/seed_corpus.py" "$corpus" "$seeds" "${sample_option[@]}" > /dev/null
     fi
   fi
-  log=$work/$target.log
   # Crashes, sanitizer reports, leaks, hangs and out-of-memory inputs; slow
   # units (over 10 s) are kept there too, for information.
   findings_count() { find "$findings" -type f \( -name 'crash-*' -o -name 'leak-*' -o -name 'timeout-*' -o -name 'oom-*' \) | wc -l; }
   before=$(findings_count)
   status=0
-  "$binary" "${limits[@]}" -max_total_time="$seconds" -print_final_stats=1 -artifact_prefix="$findings/" \
-    "${dictionary[@]}" "$generated" "$seeds" "$regressions" > "$log" 2>&1 || status=$?
-  runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
-  runs=${runs:-0}
+  pids=()
+  # Each job adds what it finds to $generated and picks up the others' finds (libFuzzer's -reload).
+  for ((job = 0; job < jobs; job++)); do
+    "$binary" "${limits[@]}" -max_total_time="$seconds" -print_final_stats=1 -artifact_prefix="$findings/" \
+      "${dictionary[@]}" "$generated" "$seeds" "$regressions" > "$work/$target.$job.log" 2>&1 &
+    pids+=($!)
+  done
+  for pid in "${pids[@]}"; do wait "$pid" || status=$?; done
+  runs=0
+  for ((job = 0; job < jobs; job++)); do
+    job_runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$work/$target.$job.log" | tail -n 1)
+    runs=$((runs + ${job_runs:-0}))
+  done
   total=$((total + runs))
   after=$(findings_count)
   if ((status != 0 || after > before)); then
-    echo "FAIL $target: $runs executions in ${seconds} s; new findings in $findings (log: $log)"
+    echo "FAIL $target: $runs executions in ${seconds} s x $jobs jobs; new findings in $findings (logs: $work/$target.*.log)"
     failed=1
   else
-    echo "ok   $target: $runs executions in ${seconds} s"
+    echo "ok   $target: $runs executions in ${seconds} s x $jobs jobs"
   fi
 done
 echo "total: $total executions"

@@ -18,6 +18,8 @@
 #             SOLVE_ALGORITHM (default portfolio), SOLVE_SECONDS a level (default 60), SOLVE_JOBS games at once
 #   cpp       examples/cpp built against the installed psc in device/ (find_package): a CPU
 #             and a CUDA batch of sokoban stepped with the same actions must observe the same bytes
+#   fuzz      a fuzz campaign on the device machine's cores (tools/fuzz_campaign.sh --jobs $(nproc)), FUZZ_SECONDS
+#             per target (default 60), FUZZ_TARGETS (default all three); needs device_bundle.sh's FUZZ=1 bundle
 #   multigpu  (several GPUs) python/tests/test_multi_gpu.py; then for each of MULTI_GAMES (game:batches, batches
 #             per GPU) psc bench --devices over 1 and all GPUs (one process), and examples/torchrun_rollout.py
 #             on 1 and all GPUs at the last batch (one process a GPU)
@@ -153,7 +155,16 @@ for stage in "$@"; do
             --algorithm "${SOLVE_ALGORITHM:-portfolio}" ${SOLVE_GAMES:+--games "$SOLVE_GAMES"} --jobs "${SOLVE_JOBS:-1}" \
             --out "$out/solve_cuda_${SOLVE_ALGORITHM:-portfolio}.jsonl"
         ;;
+    fuzz)
+        seeds=/tmp/psc-fuzz-seeds
+        mkdir -p $seeds && tar -xJf device/fuzz-seeds.tar.xz -C $seeds
+        PSC_FUZZ_GAMES=$PWD/games/sokoban.txt:$PWD/games/rigid.txt:$PWD/games/ice.txt \
+            tools/fuzz_campaign.sh --build device/build-fuzz --work /tmp/psc-fuzz-work --seeds $seeds --jobs "$jobs" \
+            --seconds "${FUZZ_SECONDS:-60}" ${FUZZ_TARGETS:-} 2>&1 | tee "$out/fuzz.txt"
+        if [ -n "$(ls -A /tmp/psc-fuzz-work/findings 2>/dev/null)" ]; then tar -czf "$out/fuzz-findings.tar.gz" -C /tmp/psc-fuzz-work findings; fi
+        ;;
     multigpu)
+        # Results in one archive, multigpu.tar.gz (a device call brings back a few files only).
         mkdir -p "$out/multigpu"
         gpus=$(nvidia-smi -L | wc -l)
         all=$(seq -s, 0 $((gpus - 1)))
@@ -165,8 +176,8 @@ for stage in "$@"; do
             batches=${spec#*:}
             for devices in 0 "$all"; do
                 "$psc" bench "bench/games/$name.txt" --backend cuda --devices "$devices" --batch "$batches" --repeats 5 \
-                    --warmup 1 "${fast[@]}" > "$out/multigpu/bench_$name.$devices.txt" 2>&1
-                echo "$name devices $devices, one process: $(tail -1 "$out/multigpu/bench_$name.$devices.txt")"
+                    --warmup 1 "${fast[@]}" > "$out/multigpu/bench_$name.${devices//,/-}.txt" 2>&1
+                echo "$name devices $devices, one process: $(tail -1 "$out/multigpu/bench_$name.${devices//,/-}.txt")"
             done
             for n in 1 "$gpus"; do
                 timeout 300 $python -m torch.distributed.run --nproc-per-node "$n" examples/torchrun_rollout.py \
@@ -175,6 +186,7 @@ for stage in "$@"; do
                 echo "$name torchrun $n: $(grep -E 'steps/s|FAIL|Error' "$out/multigpu/torchrun_$name.$n.txt" | tail -2)"
             done
         done
+        tar -czf "$out/multigpu.tar.gz" -C "$out" multigpu && rm -rf "$out/multigpu"
         ;;
     cpp)
         "$psc" games/sokoban.txt -o /tmp/sokoban-all.so --target all &&

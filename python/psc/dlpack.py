@@ -12,6 +12,7 @@ DLPack is spoken with ctypes: a DLManagedTensor lives in Python memory, kept
 deleter.
 """
 
+import contextlib
 import ctypes
 from ctypes import POINTER, c_char_p, c_int32, c_int64, c_uint8, c_uint16, c_uint64, c_void_p
 
@@ -227,12 +228,26 @@ def array_address(array, shape, dtype, device: int, stream: int) -> int:
     return int(interface["data"][0])
 
 
+def _current_device(array, device: int):
+    """PyTorch exports a CUDA tensor only while its device is the current one:
+    make it so for a batch on another GPU than the caller's current device."""
+    if type(array).__module__.split(".")[0] == "torch":
+        import torch
+
+        return torch.cuda.device(device)
+    return contextlib.nullcontext()
+
+
 def _dlpack_address(array, shape, dtype, device: int, stream: int) -> int:
     device_type, device_id = array.__dlpack_device__()
     expected = (DEVICE_CPU, 0) if device < 0 else (DEVICE_CUDA, device)
     if (int(device_type), int(device_id)) != expected:
         raise ValueError(f"the array is on DLPack device {(int(device_type), int(device_id))}, expected {expected}")
-    capsule = array.__dlpack__() if device < 0 else array.__dlpack__(stream=stream or 1)
+    if device < 0:
+        capsule = array.__dlpack__()
+    else:
+        with _current_device(array, device):
+            capsule = array.__dlpack__(stream=stream or 1)
     # The capsule stays unconsumed: when it dies its producer releases only
     # this export, while `array` itself keeps the memory.
     tensor = DLManagedTensor.from_address(_capsule_pointer(capsule, _CAPSULE_NAME)).dl_tensor
