@@ -51,6 +51,7 @@
 #define PSC_LAYER inline __noinline__
 #define PSC_TURN inline __noinline__
 #endif
+#define PSC_INPUT PSC_INLINE
 #define PSC_TABLE __device__ const
 // Loops over objects, layers and a board's words are unrolled for boards of
 // a few words (PSC_UNROLL_BOARD_WORDS, set above), whose state then fits in
@@ -83,6 +84,11 @@
 #define PSC_RULE
 #define PSC_LAYER inline
 #define PSC_TURN PSC_INLINE
+// One copy of an input's processing, called wherever the host steps (every
+// stepping loop and the search's expansion) instead of inlined into each:
+// large games' plugins compile a quarter faster, and the call costs nothing
+// next to a turn.
+#define PSC_INPUT __attribute__((noinline))
 #define PSC_TABLE static const
 #define PSC_UNROLL
 #define PSC_UNROLL_STATE

@@ -330,7 +330,7 @@ inline constexpr int kMaxAgainTurns = 10000;
 
 // One input and every `again` turn it triggers (they settle within the
 // input).  Returns false when an again chain had to be cut off.
-PSC_DEVICE PSC_INLINE bool applyInput(Env& e, UndoStack& u, int input) {
+PSC_DEVICE PSC_INPUT bool applyInput(Env& e, UndoStack& u, int input) {
     bool play = true;
     int dir = input <= kInputAction ? input : -1;
     if (input == kInputUndo) {
@@ -438,7 +438,7 @@ PSC_DEVICE PSC_COLD void startEpisode(Env& e, UndoStack& u) {
     e.needsReset = 0;
 }
 
-PSC_DEVICE PSC_INLINE StepOutcome stepEnvironment(Env& e, UndoStack& u, int action) {
+PSC_DEVICE PSC_INPUT StepOutcome stepEnvironment(Env& e, UndoStack& u, int action) {
     StepOutcome out = {0.0f, 0, 0, 0, 0};
     if (e.needsReset) {
         outOfLine(e, u, [](Env& m, UndoStack& mu) { startEpisode(m, mu); });

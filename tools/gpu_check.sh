@@ -158,7 +158,12 @@ for stage in "$@"; do
     fuzz)
         seeds=/tmp/psc-fuzz-seeds
         mkdir -p $seeds && tar -xJf device/fuzz-seeds.tar.xz -C $seeds
-        PSC_FUZZ_GAMES=$PWD/games/sokoban.txt:$PWD/games/rigid.txt:$PWD/games/ice.txt \
+        # The ABI target's plugins built once, not by each of its jobs.
+        plugins=()
+        for game in sokoban rigid ice; do
+            "$psc" "games/$game.txt" -o "/tmp/psc-fuzz-$game.so" --target cpu && plugins+=("/tmp/psc-fuzz-$game.so")
+        done
+        PSC_FUZZ_PLUGINS=$(IFS=:; echo "${plugins[*]}") \
             tools/fuzz_campaign.sh --build device/build-fuzz --work /tmp/psc-fuzz-work --seeds $seeds --jobs "$jobs" \
             --seconds "${FUZZ_SECONDS:-60}" ${FUZZ_TARGETS:-} 2>&1 | tee "$out/fuzz.txt"
         if [ -n "$(ls -A /tmp/psc-fuzz-work/findings 2>/dev/null)" ]; then tar -czf "$out/fuzz-findings.tar.gz" -C /tmp/psc-fuzz-work findings; fi
