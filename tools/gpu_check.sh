@@ -163,10 +163,15 @@ for stage in "$@"; do
         for game in sokoban rigid ice; do
             "$psc" "games/$game.txt" -o "/tmp/psc-fuzz-$game.so" --target cpu && plugins+=("/tmp/psc-fuzz-$game.so")
         done
-        PSC_FUZZ_PLUGINS=$(IFS=:; echo "${plugins[*]}") \
-            tools/fuzz_campaign.sh --build device/build-fuzz --work /tmp/psc-fuzz-work --seeds $seeds --jobs "$jobs" \
-            --seconds "${FUZZ_SECONDS:-60}" ${FUZZ_TARGETS:-} 2>&1 | tee "$out/fuzz.txt"
-        if [ -n "$(ls -A /tmp/psc-fuzz-work/findings 2>/dev/null)" ]; then tar -czf "$out/fuzz-findings.tar.gz" -C /tmp/psc-fuzz-work findings; fi
+        # One target at a time, its findings packed as it ends (a cut call still brings back the earlier ones).
+        for target in ${FUZZ_TARGETS:-frontend codegen plugin_abi}; do
+            PSC_FUZZ_PLUGINS=$(IFS=:; echo "${plugins[*]}") \
+                tools/fuzz_campaign.sh --build device/build-fuzz --work /tmp/psc-fuzz-work --seeds $seeds --jobs "$jobs" \
+                --seconds "${FUZZ_SECONDS:-60}" "$target" 2>&1 | tee -a "$out/fuzz.txt"
+            if [ -n "$(find /tmp/psc-fuzz-work/findings -type f 2>/dev/null)" ]; then
+                tar -czf "$out/fuzz-findings.tar.gz" -C /tmp/psc-fuzz-work findings
+            fi
+        done
         ;;
     multigpu)
         # Results in one archive, multigpu.tar.gz (a device call brings back a few files only).
