@@ -42,6 +42,15 @@ Driver* driver() {
     return ok ? &d : nullptr;
 }
 
+// Runs f with `context` current, then gives the caller's context back.
+template <typename F>
+void inContext(void* context, F f) {
+    void* popped = nullptr;
+    driver()->cuCtxPushCurrent(context);
+    f();
+    driver()->cuCtxPopCurrent(&popped);
+}
+
 }  // namespace
 
 std::optional<CudaTimer> CudaTimer::create(int device, std::string* error) {
@@ -58,10 +67,8 @@ std::optional<CudaTimer> CudaTimer::create(int device, std::string* error) {
     }
     CudaTimer t;
     t.context_ = ctx;
-    d->cuCtxPushCurrent(ctx);
-    const bool created = !d->cuEventCreate(&t.begin_, 0) && !d->cuEventCreate(&t.end_, 0);
-    void* popped = nullptr;
-    d->cuCtxPopCurrent(&popped);
+    bool created = false;
+    inContext(ctx, [&] { created = !d->cuEventCreate(&t.begin_, 0) && !d->cuEventCreate(&t.end_, 0); });
     if (!created) {
         *error = "cannot create CUDA events";
         return std::nullopt;
@@ -71,19 +78,12 @@ std::optional<CudaTimer> CudaTimer::create(int device, std::string* error) {
 
 // Events go on the default stream of the timer's device, whatever context the caller has current.
 void CudaTimer::start() {
-    Driver* d = driver();
-    void* popped = nullptr;
-    d->cuCtxPushCurrent(context_);
-    d->cuEventRecord(begin_, nullptr);
-    d->cuCtxPopCurrent(&popped);
+    inContext(context_, [&] { driver()->cuEventRecord(begin_, nullptr); });
 }
 
 double CudaTimer::stop() {
     Driver* d = driver();
-    void* popped = nullptr;
-    d->cuCtxPushCurrent(context_);
-    d->cuEventRecord(end_, nullptr);
-    d->cuCtxPopCurrent(&popped);
+    inContext(context_, [&] { d->cuEventRecord(end_, nullptr); });
     d->cuEventSynchronize(end_);
     float ms = 0;
     d->cuEventElapsedTime(&ms, begin_, end_);
