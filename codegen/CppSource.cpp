@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "CodeWriter.h"
 #include "KeyObjects.h"
@@ -138,6 +139,7 @@ std::pair<int, int> fixedSize(const Game& g, const SourceOptions& o) {
 void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const GpuCode& gpu) {
     out.line(fmt::format("#define PSC_USES_RANDOM {}", usesRandom(g) ? 1 : 0));
     out.line(fmt::format("#define PSC_HAS_RIGID {}", g.hasRigid ? 1 : 0));
+    out.line(fmt::format("#define PSC_HAS_RULE_MESSAGES {}", ruleMessages(g).empty() ? 0 : 1));
     out.line(fmt::format("#define PSC_STATE_IN_REGISTERS {}  // the GPU's state layout (templates/core.h)",
                          gpu.inRegisters ? 1 : 0));
     out.line(fmt::format("#define PSC_STATE_IN_SHARED {}  // the stepping kernel's copy in shared memory",
@@ -457,6 +459,13 @@ void emitHostInfo(CodeWriter& out, const Game& g, const SourceOptions& o) {
     double realtime = 0;
     if (const ir::MetadataValue* v = g.metadataValue("realtime_interval")) realtime = js::toNumber(v->text);
     if (!(realtime > 0)) realtime = 0;
+    double again = 0.15;  // the reference player's default
+    if (const ir::MetadataValue* v = g.metadataValue("again_interval")) again = js::toNumber(v->text);
+    if (!(again >= 0) || !std::isfinite(again)) again = 0.15;
+    const std::vector<std::string> ruleTexts = ruleMessages(g);
+    out.line(fmt::format("constexpr int kRuleMessageCount = {};", ruleTexts.size()));
+    out.line("static const char* const kRuleMessages[] = {" +
+             list(ruleTexts, [](const std::string& t) { return cString(t); }, "\"\"") + "};");
     // Sprites (5x5, -1 transparent) and colours (0xRRGGBB) per channel.
     std::vector<int> sprites;
     std::vector<std::string> colors;
@@ -505,6 +514,7 @@ void emitHostInfo(CodeWriter& out, const Game& g, const SourceOptions& o) {
     out.line(fmt::format("    kObjectSprites, kObjectColors, {}, {},", themeColor("background_color", "#000000"),
                          themeColor("text_color", "#ffffff")));
     out.line("    static_cast<uint32_t>(sizeof(u64) * kKeyWords),");
+    out.line(fmt::format("    {}, kRuleMessageCount, kRuleMessages,", again));
     out.line("};");
     out.close("  // namespace psc_game");
     out.line();
@@ -573,6 +583,7 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     out.line("// ---- the rules");
     out.open("namespace psc_game");
     out.line("PSC_DEVICE PSC_INLINE u32 queueCommands(u32 queue, u32 commands);");
+    if (!ruleMessages(game).empty()) out.line("PSC_DEVICE PSC_INLINE void queueMessageRule(Env& e, u32 commands, int message);");
     out.line();
     emitRules(out, game, options.target == "cpu" ? 1 : gpu.units);
     out.close("  // namespace psc_game");

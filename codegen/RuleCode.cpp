@@ -323,6 +323,23 @@ uint32_t commandBits(const Rule& rule) {
     return bits;
 }
 
+// The text of the rule's `message` command, if it has one.
+const std::string* messageOf(const Rule& rule) {
+    for (const auto& c : rule.commands) {
+        if (c.name == "message") return &c.message;
+    }
+    return nullptr;
+}
+
+// The statement that queues the rule's commands (`commands` != 0).
+std::string queueStatement(const Game& g, const Rule& rule, uint32_t commands) {
+    const std::string* message = messageOf(rule);
+    if (!message) return fmt::format("e.queue = queueCommands(e.queue, {}u);", commands);
+    const std::vector<std::string> texts = ruleMessages(g);
+    const auto at = std::find(texts.begin(), texts.end(), *message);
+    return fmt::format("queueMessageRule(e, {}u, {});", commands, at - texts.begin());
+}
+
 // ---- whole rules
 
 struct RuleNames {
@@ -383,14 +400,14 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
                 out.line("first = false;");
                 for (const auto& row : rows) emitApplyRow(out, g, rule, row);
             });
-            if (commands) out.line(fmt::format("if (!first) e.queue = queueCommands(e.queue, {}u);", commands));
+            if (commands) out.line("if (!first) " + queueStatement(g, rule, commands));
         } else {
             if (!hasEllipsis(rule)) {
-                if (commands) out.line(fmt::format("e.queue = queueCommands(e.queue, {}u);", commands));
+                if (commands) out.line(queueStatement(g, rule, commands));
             } else {
                 out.line("bool matched = false;");
                 emitTupleLoops(out, rule, [&](const std::vector<RowLayout>&) { out.line("matched = true;"); });
-                if (commands) out.line(fmt::format("if (matched) e.queue = queueCommands(e.queue, {}u);", commands));
+                if (commands) out.line("if (matched) " + queueStatement(g, rule, commands));
             }
         }
         out.line("return changed;");
@@ -424,7 +441,7 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
         for (const auto& row : rows) emitApplyRow(out, g, rule, row);
         out.close();
     });
-    if (commands) out.line(fmt::format("e.queue = queueCommands(e.queue, {}u);", commands));
+    if (commands) out.line(queueStatement(g, rule, commands));
     out.line("return changed;");
     out.close();
     out.line();
@@ -586,6 +603,19 @@ void emitRules(CodeWriter& out, const Game& game, int units) {
     }
     emitApplyRules(out, game, game.rules, game.loopPoints, false);
     emitApplyRules(out, game, game.lateRules, game.lateLoopPoints, true);
+}
+
+std::vector<std::string> ruleMessages(const Game& game) {
+    std::vector<std::string> texts;
+    for (const auto* groups : {&game.rules, &game.lateRules}) {
+        for (const auto& group : *groups) {
+            for (const auto& rule : group.rules) {
+                const std::string* message = messageOf(rule);
+                if (message && std::find(texts.begin(), texts.end(), *message) == texts.end()) texts.push_back(*message);
+            }
+        }
+    }
+    return texts;
 }
 
 }  // namespace psc::codegen

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "CodeWriter.h"
 #include "ir/Ir.h"
@@ -21,5 +22,9 @@ namespace psc::codegen {
 // function is declared for all units and defined in one of units 1..units-1,
 // balanced by code size.
 void emitRules(CodeWriter& out, const ir::Game& game, int units = 1);
+
+// The distinct texts of the rules' `message` commands, early rules then late
+// ones in source order: psc_game_info.rule_messages, which step results index.
+std::vector<std::string> ruleMessages(const ir::Game& game);
 
 }  // namespace psc::codegen

@@ -194,6 +194,7 @@ struct Session {
         o.undo_depth = in.ConsumeIntegralInRange<int32_t>(-2, 6);
         o.auto_reset = in.ConsumeIntegralInRange<int32_t>(-1, 3);
         o.max_episode_steps = in.ConsumeIntegralInRange<int32_t>(-1, 5);
+        o.again_mode = in.ConsumeIntegralInRange<int32_t>(-1, 2);
         o.device = in.ConsumeIntegral<int8_t>();
         psc_batch* b = reinterpret_cast<psc_batch*>(0x1);  // must be overwritten
         const bool nullOut = in.ConsumeIntegralInRange<int>(0, 31) == 0;

@@ -66,7 +66,12 @@ private:
     void levelSelectKey(Key key);
     void gameKey(Key key);
     void apply(int action);  // one game input, recorded
+    void runAgainTurn();     // the `again` turn due (not an input: not recorded)
+    void settleAgain();      // every `again` turn due at once (--scripted)
+    void afterTurn(const StepReport& report);
+    bool againDue() const { return mode_ == Mode::Game && session_.againing() && !ruleMessage_; }
     void closeMessage();
+    void closeRuleMessage();
     // Moving around.
     void startEntry(int entry);
     void startLevel(int level);
@@ -95,6 +100,7 @@ private:
     bool realtimeActive() const;
     // Ticks run on through inputs, as in the reference's front end.
     Clock::duration tickInterval() const { return seconds(info_.realtime_interval); }
+    Clock::duration againInterval() const { return seconds(info_.again_interval); }
 
     int runInteractive();
     int runScripted();
@@ -127,6 +133,10 @@ private:
     bool replaying_ = false;
     Clock::time_point nextReplay_;
     Clock::time_point nextTick_;
+    Clock::time_point nextAgain_;
+    // A rule's message, shown over the level until X; again turns wait for it.
+    std::optional<std::string> ruleMessage_;
+    bool completeAfterMessage_ = false;  // the turn that showed it completed the game
 
     bool quitting_ = false;
     int quitStatus_ = 0;
@@ -159,6 +169,8 @@ Player::Player(const Plugin& plugin, const GameDisplay& display, const PlayOptio
 void Player::startEntry(int entry) {
     hint_.cancel();
     hintFor_.reset();
+    ruleMessage_.reset();
+    completeAfterMessage_ = false;
     session_.startEntry(entry);
     view_.resetCamera();
     mode_ = Mode::Game;
@@ -181,6 +193,8 @@ void Player::startLevel(int level) {
 void Player::openTitle(const std::string& note) {
     hint_.cancel();
     hintFor_.reset();
+    ruleMessage_.reset();
+    completeAfterMessage_ = false;
     mode_ = Mode::Title;
     titleSelected_ = 0;
     titleNote_ = note;
@@ -262,6 +276,13 @@ void Player::levelSelectKey(Key key) {
 }
 
 void Player::gameKey(Key key) {
+    if (ruleMessage_) {
+        switch (key) {
+            case Key::Action: return closeRuleMessage();
+            case Key::Back: case Key::NextLevel: case Key::PreviousLevel: case Key::LevelSelect: break;
+            default: return;
+        }
+    }
     const bool onLevel = session_.screen() == Screen::Level;
     const int level = onLevel ? session_.level() : session_.levelAtOrAfter(session_.entry());
     switch (key) {
@@ -309,6 +330,8 @@ void Player::apply(int action) {
         if (action == PSC_ACTION_ACTION) closeMessage();
         return;
     }
+    // The reference's player drops inputs while an `again` chain runs.
+    if (session_.againing() && action != PSC_ACTION_UNDO && action != PSC_ACTION_RESTART) return;
     if (hint_.running()) {
         hint_.cancel();
         hintFor_.reset();
@@ -320,14 +343,45 @@ void Player::apply(int action) {
     }
     const StepReport report = session_.step(action);
     if (action == PSC_ACTION_TICK) nextTick_ = Clock::now() + tickInterval();
+    afterTurn(report);
+}
+
+void Player::runAgainTurn() { afterTurn(session_.step(PSC_ACTION_TICK)); }
+
+void Player::settleAgain() {
+    while (againDue() && !quitting_) {
+        runAgainTurn();
+        render();
+    }
+}
+
+void Player::afterTurn(const StepReport& report) {
+    if (report.againing) nextAgain_ = Clock::now() + againInterval();
     if (report.cutOff) note_ = "an endless `again` chain was cut off";
+    if (!report.message.empty()) {
+        ruleMessage_ = report.message;
+        logScreen();  // before the win, which the reference checks when the message closes
+    }
     if (report.won) {
         progress_.solved.insert(report.wonLevel);
         view_.resetCamera();
         logLine(fmt::format("solved level {}", report.wonLevel + 1));
-        if (report.completed) return completeGame();
+        if (report.completed) {
+            if (!ruleMessage_) return completeGame();
+            completeAfterMessage_ = true;
+            return;
+        }
         note_ = fmt::format("level {} solved", report.wonLevel + 1);
         saveProgress();
+    }
+}
+
+void Player::closeRuleMessage() {
+    ruleMessage_.reset();
+    nextAgain_ = Clock::now() + againInterval();
+    if (completeAfterMessage_) {
+        completeAfterMessage_ = false;
+        completeGame();
     }
 }
 
@@ -344,7 +398,7 @@ void Player::closeMessage() {
 // ---- hints
 
 void Player::requestHint() {
-    if (session_.screen() != Screen::Level) return;
+    if (session_.screen() != Screen::Level || ruleMessage_ || session_.againing()) return;
     if (flag(PSC_FLAG_REALTIME)) {
         note_ = "no hints in realtime games: the solver does not play the clock's ticks";
         return;
@@ -393,6 +447,9 @@ void Player::replayNext() {
         replaying_ = false;
         return;
     }
+    // A replay waits for the `again` chain and shows a rule's message for one interval.
+    if (mode_ == Mode::Game && ruleMessage_) return closeRuleMessage();
+    if (againDue()) return;
     const int action = options_.replay[replayAt_++];
     if (mode_ == Mode::Game) {
         if (session_.screen() != Screen::Level && action == PSC_ACTION_ACTION) closeMessage();
@@ -407,13 +464,15 @@ void Player::replayNext() {
 // ---- output
 
 bool Player::realtimeActive() const {
-    return info_.realtime_interval > 0 && mode_ == Mode::Game && session_.screen() == Screen::Level && !replaying_;
+    return info_.realtime_interval > 0 && mode_ == Mode::Game && session_.screen() == Screen::Level && !replaying_ &&
+           !session_.againing() && !ruleMessage_;
 }
 
 std::string Player::statusLeft() const {
     std::string title = info_.title && *info_.title ? info_.title : "(untitled)";
     if (mode_ == Mode::Title) return title;
     if (mode_ == Mode::LevelSelect) return title + " \u00b7 level select";
+    if (ruleMessage_) return title + " \u00b7 message";
     if (session_.screen() == Screen::Message) {
         const int next = session_.levelAtOrAfter(session_.entry());
         return title + (next >= 0 ? fmt::format(" \u00b7 before level {} of {}", next + 1, info_.level_count) : " \u00b7 the end");
@@ -427,6 +486,7 @@ std::string Player::statusLeft() const {
 std::string Player::helpLine() const {
     if (mode_ == Mode::Title) return "Q quit \u00b7 arrows select \u00b7 X start \u00b7 L level select";
     if (mode_ == Mode::LevelSelect) return "Q quit \u00b7 arrows move \u00b7 X play \u00b7 Esc back";
+    if (ruleMessage_) return "Q quit \u00b7 X continue";
     if (session_.screen() == Screen::Message) return "Q quit \u00b7 X continue \u00b7 L levels \u00b7 N/P next/previous \u00b7 Esc title";
     std::string s = "Q quit \u00b7 arrows/WASD move";
     if (!flag(PSC_FLAG_NOACTION)) s += " \u00b7 X act";
@@ -457,7 +517,9 @@ void Player::render() {
             selectPerRow_ = drawLevelSelect(canvas, area, LevelSelectScreen{info_.level_count, progress_.solved, selectCursor_});
             break;
         case Mode::Game:
-            if (session_.screen() == Screen::Level) {
+            if (ruleMessage_) {
+                drawMessage(canvas, area, *ruleMessage_, theme_);
+            } else if (session_.screen() == Screen::Level) {
                 const LevelStyle style = view_.choose(session_, area, options_.forceGlyphs, colors_);
                 view_.draw(canvas, session_, area, style, colors_);
             } else {
@@ -478,6 +540,7 @@ void Player::logScreen() {
     std::string line;
     if (mode_ == Mode::Title) line = "title: " + std::string(info_.title ? info_.title : "");
     else if (mode_ == Mode::LevelSelect) line = "level select";
+    else if (ruleMessage_) line = "message: " + *ruleMessage_;
     else if (session_.screen() == Screen::Message) line = "message: " + session_.message();
     else line = fmt::format("level {} of {}", session_.level() + 1, info_.level_count);
     if (line != lastLogged_) logLine(line);
@@ -493,7 +556,7 @@ void Player::logLine(const std::string& line) {
 void Player::printFinalState() {
     if (!logMode_) return;
     logLine(statusLeft());
-    if (mode_ != Mode::Game || session_.screen() != Screen::Level) return;
+    if (mode_ != Mode::Game || session_.screen() != Screen::Level || ruleMessage_) return;
     // The level as a terminal of 100 x 50 would show it, without the blank rows around it.
     Canvas canvas(100, std::min(session_.height(), 48) + 2);
     view_.draw(canvas, session_, Area{0, 0, canvas.columns(), canvas.rows()}, LevelStyle::Glyphs, ColorMode::None);
@@ -521,6 +584,7 @@ int Player::runScripted() {
     while (replaying_) {
         replayNext();
         render();
+        settleAgain();
     }
     char buffer[4096];
     while (!quitting_) {
@@ -535,6 +599,7 @@ int Player::runScripted() {
             if (!key) break;
             handleKey(*key);
             render();
+            settleAgain();
         }
         if (ended) break;
     }
@@ -553,6 +618,7 @@ int Player::runInteractive() {
         auto wakeAt = [&](Clock::time_point t) { wake = wake ? std::min(*wake, t) : t; };
         if (replaying_) wakeAt(nextReplay_);
         if (realtimeActive()) wakeAt(nextTick_);
+        if (againDue()) wakeAt(nextAgain_);
         if (decoder_.waiting()) wakeAt(lastByte + kEscapeWait);
         int timeout = -1;
         if (wake) timeout = static_cast<int>(std::max<long long>(0, std::chrono::duration_cast<std::chrono::milliseconds>(*wake - now).count() + 1));
@@ -589,6 +655,10 @@ int Player::runInteractive() {
         if (replaying_ && Clock::now() >= nextReplay_) {
             replayNext();
             nextReplay_ += seconds(options_.replayInterval);
+            dirty = true;
+        }
+        if (againDue() && Clock::now() >= nextAgain_) {
+            runAgainTurn();
             dirty = true;
         }
         if (realtimeActive() && Clock::now() >= nextTick_) {

@@ -25,6 +25,7 @@ Session::Session(const Plugin& plugin, uint64_t seed) : plugin_(plugin), info_(p
     options.threads = 1;
     options.undo_depth = kUndoDepth;
     options.auto_reset = PSC_AUTO_RESET_OFF;
+    options.again_mode = PSC_AGAIN_ONE_TURN;
     if (plugin_.batchCreate(&options, &batch_) != PSC_OK) {
         throw std::runtime_error(std::string("cannot create the game: ") + plugin_.lastError());
     }
@@ -39,6 +40,7 @@ void Session::startEntry(int entry) {
     if (plugin_.resetEntry(batch_, 0, entry, seed.c_str()) != PSC_OK) {
         throw std::runtime_error(std::string("cannot start the level: ") + plugin_.lastError());
     }
+    againing_ = false;
     refresh();
     beginLevelBookkeeping();
 }
@@ -58,14 +60,18 @@ void Session::beginLevelBookkeeping() {
 
 StepReport Session::step(int action) {
     const int levelBefore = level();
+    const bool chainTurn = againing_ && action != PSC_ACTION_UNDO && action != PSC_ACTION_RESTART;
     const int32_t a = action;
     psc_step_result result{};
     if (plugin_.step(batch_, &a, &result) != PSC_OK) {
         throw std::runtime_error(std::string("the game failed: ") + plugin_.lastError());
     }
     refresh();
+    againing_ = result.againing != 0;
     StepReport report;
     report.cutOff = result.cut_off != 0;
+    report.againing = againing_;
+    if (result.message >= 0 && result.message < info_.rule_message_count) report.message = info_.rule_messages[result.message];
     if (result.won) {
         report.won = true;
         report.wonLevel = levelBefore;
@@ -74,6 +80,12 @@ StepReport Session::step(int action) {
         return report;
     }
     if (screen_ != Screen::Level) return report;
+    // The bookkeeping counts an input with its whole chain, as search does.
+    if (chainTurn) action = chainInput_;
+    if (againing_) {
+        chainInput_ = action;
+        return report;
+    }
     const std::string now = key();
     if (action <= PSC_ACTION_ACTION) {
         if (now != lastKey_) {

@@ -1,6 +1,7 @@
 // One game played through its plugin: an environment that goes from level
 // to level, through message screens, as the reference engine does (auto-reset
-// off), with the bookkeeping the player shows: the level's number, the moves
+// off), one turn at a time as its player draws them (`again` turns one by
+// one, the messages rules show), with the bookkeeping the player shows: the level's number, the moves
 // made, and the inputs that lead from the level's start to where the player
 // is (for hints).
 #pragma once
@@ -22,6 +23,8 @@ struct StepReport {
     int wonLevel = -1;       // which playable level
     bool completed = false;  // that was the last level: the game is over
     bool cutOff = false;     // an endless `again` chain was cut off
+    bool againing = false;   // another `again` turn is due
+    std::string message;     // the text of a rule's `message` command shown by this turn, or empty
 };
 
 class Session {
@@ -38,8 +41,10 @@ public:
     // Shows LEVELS entry `entry` (a level or a message).
     void startEntry(int entry);
     void startLevel(int level) { startEntry(info_.level_entries[level]); }
-    // One input (psc_action) and every `again` turn it sets off.
+    // One turn: an input (psc_action), or, while an `again` turn is due, that
+    // turn (then directions and action are dropped, as the reference does).
     StepReport step(int action);
+    bool againing() const { return againing_; }
 
     Screen screen() const { return screen_; }
     int entry() const { return entry_; }
@@ -77,6 +82,8 @@ private:
     int width_ = 0;
     int height_ = 0;
     std::vector<uint8_t> observation_;
+    bool againing_ = false;
+    int chainInput_ = -1;  // the input whose `again` chain is running
     int moves_ = 0;
     std::optional<std::string> path_;
     std::string lastKey_;

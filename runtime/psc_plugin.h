@@ -1,4 +1,4 @@
-/* psc plugin ABI, version 2.
+/* psc plugin ABI, version 3.
  *
  * Every plugin psc builds (`psc game.txt -o game.so`) exports these C
  * functions.  A plugin simulates one PuzzleScript game for a batch of
@@ -11,7 +11,8 @@
  *    LEVELS section, message entries included (as the corpus' traces do).
  *  - Actions: 0 up, 1 left, 2 down, 3 right, 4 action, 5 undo, 6 restart,
  *    7 tick (a turn with no input).  One step is one action followed by every
- *    `again` turn it triggers.
+ *    `again` turn it triggers (unless the batch's again_mode is
+ *    PSC_AGAIN_ONE_TURN, for players that draw each turn).
  *  - Every function returns PSC_OK or an error code; psc_last_error() then
  *    says what went wrong, in words.
  *  - Observations are multi-hot object planes, uint8, shape
@@ -28,7 +29,7 @@
 extern "C" {
 #endif
 
-#define PSC_ABI_VERSION 2
+#define PSC_ABI_VERSION 3
 
 /* Plugins are built with hidden symbols; these are the exported ones. */
 #if defined(__GNUC__)
@@ -61,6 +62,14 @@ typedef enum psc_auto_reset {
     PSC_AUTO_RESET_NEXT_STEP = 2  /* the ending step shows the final state; the next step restarts the level
                                      (its action is ignored), as Gymnasium's NEXT_STEP mode */
 } psc_auto_reset;
+
+/* How a step treats the `again` turns an input sets off. */
+typedef enum psc_again_mode {
+    PSC_AGAIN_SETTLE = 0,   /* the step runs them all, as the reference's test harness (and search, and training) */
+    PSC_AGAIN_ONE_TURN = 1  /* the step runs one turn; psc_step_result.againing says another is due, which the
+                               next step runs whatever its action (but undo and restart), as the reference's
+                               player runs one every again_interval seconds and drops keys meanwhile */
+} psc_again_mode;
 
 typedef enum psc_action {
     PSC_ACTION_UP = 0,
@@ -127,6 +136,10 @@ typedef struct psc_game_info {
     uint32_t text_color;
 
     uint32_t state_key_bytes;          /* size of a state key (psc_encode_states), a multiple of 8 */
+
+    double again_interval;             /* seconds between again turns in the reference's player */
+    int32_t rule_message_count;        /* distinct texts of rules' `message` commands */
+    const char* const* rule_messages;  /* psc_step_result.message indexes these */
 } psc_game_info;
 
 typedef struct psc_batch psc_batch;
@@ -140,6 +153,7 @@ typedef struct psc_batch_options {
     int32_t auto_reset;        /* psc_auto_reset */
     int32_t max_episode_steps; /* with auto_reset: truncate episodes after this many steps; 0 = never */
     int32_t device;            /* CUDA device ordinal */
+    int32_t again_mode;        /* psc_again_mode */
 } psc_batch_options;
 
 /* Step results for one environment. */
@@ -150,6 +164,11 @@ typedef struct psc_step_result {
     uint8_t won;          /* a level was won in this step */
     uint8_t cut_off;      /* an endless `again` chain was cut off */
     int32_t episode_steps;
+    int32_t message;      /* the rule message (game_info.rule_messages) the reference's player would have shown
+                             in this step, the first if several, or -1; its test harness shows none and psc
+                             follows the harness, so the level is not held on a message screen */
+    uint8_t againing;     /* PSC_AGAIN_ONE_TURN: an again turn is due (the next step runs it) */
+    uint8_t reserved[3];  /* zero */
 } psc_step_result;
 
 PSC_API uint32_t psc_abi_version(void);

@@ -362,6 +362,11 @@ struct Env {
     int maxEpisodeSteps;     // 0: no limit
     u8 autoReset;            // psc_auto_reset
     u8 needsReset;           // next-step auto-reset: the episode ended on the last step
+    u8 againMode;            // psc_again_mode: whether a step settles `again` chains or runs one turn
+#if PSC_HAS_RULE_MESSAGES
+    short queuedMessage;     // the text of the `message` command queued this turn (kRuleMessages)
+    short shownMessage;      // the message the reference's player would have shown this step, or -1
+#endif
     Snapshot restartTarget;
 #if PSC_USES_RANDOM
     Rng rng;

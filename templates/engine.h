@@ -197,6 +197,32 @@ PSC_DEVICE PSC_INLINE u32 queueCommands(u32 queue, u32 commands) {
     return queue | commands;
 }
 
+#if PSC_HAS_RULE_MESSAGES
+// queueCommands for a rule with a `message` command: the queue keeps the
+// first message text queued since it was last emptied.
+PSC_DEVICE PSC_INLINE void queueMessageRule(Env& e, u32 commands, int message) {
+    const u32 before = e.queue;
+    e.queue = queueCommands(before, commands);
+    const bool ignored = (before & kCmdCancel) || ((before & kCmdRestart) && !(commands & kCmdCancel));
+    if (!ignored && (!(before & kCmdMessage) || (commands & (kCmdCancel | kCmdRestart)))) {
+        e.queuedMessage = static_cast<short>(message);
+    }
+}
+
+// The reference's player shows a queued message when a turn that is not a
+// dry run reaches its command queue (cancelled or restarted turns too); its
+// test harness, which psc follows, shows none.  A step reports the first.
+PSC_DEVICE PSC_INLINE void noteShownMessage(Env& e) {
+    if ((e.queue & kCmdMessage) && e.shownMessage < 0) e.shownMessage = e.queuedMessage;
+}
+PSC_DEVICE PSC_INLINE void clearShownMessage(Env& e) { e.shownMessage = -1; }
+PSC_DEVICE PSC_INLINE int shownMessageOf(const Env& e) { return e.shownMessage; }
+#else
+PSC_DEVICE PSC_INLINE void noteShownMessage(Env&) {}
+PSC_DEVICE PSC_INLINE void clearShownMessage(Env&) {}
+PSC_DEVICE PSC_INLINE int shownMessageOf(const Env&) { return -1; }
+#endif
+
 PSC_DEVICE PSC_INLINE void clearRigidClaims(Turn& t) {
 #if PSC_HAS_RIGID
     PSC_UNROLL_STATE for (int i = 0; i < kLayers * 5; ++i) t.rigidGroup[i] = Board::zero();
@@ -296,6 +322,7 @@ PSC_DEVICE PSC_TURN bool playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin)
             return modified;
         }
         if (!ruled) return false;
+        noteShownMessage(e);
         if (e.queue & kCmdCancel) {
             const bool commandsLeft = popcount(e.queue) > 1;
             restoreLevel(e, bak);
@@ -328,8 +355,14 @@ inline constexpr int kInputCount = 8;
 // (an animation loop) is cut off here.
 inline constexpr int kMaxAgainTurns = 10000;
 
+// psc_again_mode: a step settles its `again` chain (the reference's test
+// harness), or runs one turn and leaves the next for a later step (its player,
+// which draws each turn).
+enum AgainMode { kAgainSettle = 0, kAgainOneTurn = 1 };
+
 // One input and every `again` turn it triggers (they settle within the
-// input).  Returns false when an again chain had to be cut off.
+// input, unless the again mode is one turn per step).  Returns false when an
+// again chain had to be cut off.
 PSC_DEVICE PSC_INPUT bool applyInput(Env& e, UndoStack& u, int input) {
     bool play = true;
     int dir = input <= kInputAction ? input : -1;
@@ -339,10 +372,15 @@ PSC_DEVICE PSC_INPUT bool applyInput(Env& e, UndoStack& u, int input) {
     } else if (input == kInputRestart) {
         outOfLine(e, u, [](Env& m, UndoStack& mu) { doRestart(m, mu, false); });
         play = false;
+    } else if (e.againing) {
+        // An again turn is pending (one turn per step): it runs, and the input
+        // is dropped, as the reference's player drops keys during a chain.
+        e.againing = 0;
+        dir = -1;
     }
     for (int turns = 0;; ++turns) {
         if (play) playTurn(e, u, dir, false);
-        if (!e.againing || (e.stopOnWin && e.wins)) return true;
+        if (!e.againing || (e.stopOnWin && e.wins) || e.againMode == kAgainOneTurn) return true;
         if (turns >= kMaxAgainTurns) {
             e.againing = 0;
             return false;
@@ -428,6 +466,8 @@ struct StepOutcome {
     u8 truncated;
     u8 won;
     u8 cutOff;
+    u8 againing;  // an again turn is pending (one turn per step)
+    short message;  // kRuleMessages index shown by the step, or -1
 };
 
 PSC_DEVICE PSC_COLD void startEpisode(Env& e, UndoStack& u) {
@@ -439,7 +479,8 @@ PSC_DEVICE PSC_COLD void startEpisode(Env& e, UndoStack& u) {
 }
 
 PSC_DEVICE PSC_INPUT StepOutcome stepEnvironment(Env& e, UndoStack& u, int action) {
-    StepOutcome out = {0.0f, 0, 0, 0, 0};
+    StepOutcome out = {0.0f, 0, 0, 0, 0, 0, -1};
+    clearShownMessage(e);
     if (e.needsReset) {
         outOfLine(e, u, [](Env& m, UndoStack& mu) { startEpisode(m, mu); });
         return out;
@@ -449,6 +490,8 @@ PSC_DEVICE PSC_INPUT StepOutcome stepEnvironment(Env& e, UndoStack& u, int actio
     out.won = e.wins > 0;
     out.reward = static_cast<float>(e.wins);
     out.cutOff = !settled || e.unavailable;
+    out.againing = e.againing;
+    out.message = static_cast<short>(shownMessageOf(e));
     ++e.episodeSteps;
     if (e.autoReset == kAutoResetOff) {
         out.terminated = e.titleScreen && e.startExisted;

@@ -101,7 +101,11 @@ uint64_t fnv1a(const char* bytes, size_t size) {
 bool plausible(const Env& e) {
     return e.width >= 0 && e.width <= kMaxWidth && e.height >= 0 && e.height <= kMaxHeight &&
            e.width * (e.height + 1) <= kWords * 64 && e.entry >= 0 && e.levelEntry >= 0 && e.autoReset <= 2 &&
-           e.maxEpisodeSteps >= 0
+           e.againMode <= kAgainOneTurn && e.maxEpisodeSteps >= 0
+#if PSC_HAS_RULE_MESSAGES
+           && e.queuedMessage >= 0 && e.queuedMessage < kRuleMessageCount && e.shownMessage >= -1 &&
+           e.shownMessage < kRuleMessageCount
+#endif
 #if PSC_USES_RANDOM
            && e.seedLength <= kSeedUnits
 #endif
@@ -177,6 +181,8 @@ psc_step_result toResult(const StepOutcome& o, const Env& e) {
     r.truncated = o.truncated;
     r.won = o.won;
     r.cut_off = o.cutOff;
+    r.againing = o.againing;
+    r.message = o.message;
     r.episode_steps = e.episodeSteps;
     return r;
 }
@@ -294,6 +300,9 @@ int psc_batch_create(const psc_batch_options* options, psc_batch** batch) {
     if (options->num_envs <= 0) return fail(PSC_ERROR_BAD_ARGUMENT, "num_envs must be positive");
     if (options->undo_depth < 0) return fail(PSC_ERROR_BAD_ARGUMENT, "undo_depth must not be negative");
     if (options->max_episode_steps < 0) return fail(PSC_ERROR_BAD_ARGUMENT, "max_episode_steps must not be negative");
+    if (options->again_mode != PSC_AGAIN_SETTLE && options->again_mode != PSC_AGAIN_ONE_TURN) {
+        return fail(PSC_ERROR_BAD_ARGUMENT, "again_mode must be 0 or 1 (psc_again_mode)");
+    }
     if (kLevelCount == 0) return fail(PSC_ERROR_BAD_LEVEL, "the game has no playable level");
     psc_batch* b = new (std::nothrow) psc_batch;
     if (!b) return fail(PSC_ERROR_OUT_OF_MEMORY, "out of memory");
@@ -326,6 +335,7 @@ int psc_batch_create(const psc_batch_options* options, psc_batch** batch) {
             setSeed(e, utf16("0"));
             e.levelEntry = kLevelEntries[firstBuilt];
             e.autoReset = static_cast<u8>(b->autoReset);
+            e.againMode = static_cast<u8>(options->again_mode);
             e.maxEpisodeSteps = b->maxEpisodeSteps;
             startEpisode(e, b->undo[i]);
         }

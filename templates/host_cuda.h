@@ -171,6 +171,7 @@ struct Batch {
     std::vector<CUdeviceptr> allocations;
     psc_buffers buffers{};
     int autoReset = 0;
+    int againMode = 0;
     int maxEpisodeSteps = 0;
     unsigned long long rolloutSteps = 0;  // steps run by rollouts so far (the random actions' counter)
     static constexpr unsigned kBlock = 128;  // threads a block of every kernel but a shared-memory stepping one

@@ -20,6 +20,9 @@ static int psc_cuda_batch_create(const psc_batch_options* options, psc_batch** o
     if (options->auto_reset < PSC_AUTO_RESET_OFF || options->auto_reset > PSC_AUTO_RESET_NEXT_STEP) {
         return fail(PSC_ERROR_BAD_ARGUMENT, "auto_reset must be 0, 1 or 2 (psc_auto_reset)");
     }
+    if (options->again_mode != PSC_AGAIN_SETTLE && options->again_mode != PSC_AGAIN_ONE_TURN) {
+        return fail(PSC_ERROR_BAD_ARGUMENT, "again_mode must be 0 or 1 (psc_again_mode)");
+    }
     if (kLevelCount == 0) return fail(PSC_ERROR_BAD_LEVEL, "the game has no playable level");
     Driver& d = driver();
     if (!d.loaded) return fail(PSC_ERROR_BACKEND_UNAVAILABLE, d.error);
@@ -89,6 +92,7 @@ static int psc_cuda_batch_create(const psc_batch_options* options, psc_batch** o
         return cleanup(e);
     }
     cb->autoReset = options->auto_reset;
+    cb->againMode = options->again_mode;
     cb->maxEpisodeSteps = options->max_episode_steps;
     // The environments' fixed settings, then every environment started at the first level built.
     {
@@ -98,6 +102,7 @@ static int psc_cuda_batch_create(const psc_batch_options* options, psc_batch** o
         for (Env& e : envs) {
             std::memset(&e, 0, sizeof(Env));
             e.autoReset = static_cast<u8>(options->auto_reset);
+            e.againMode = static_cast<u8>(options->again_mode);
             e.maxEpisodeSteps = options->max_episode_steps;
             e.levelEntry = kLevelEntries[firstBuilt];
         }
@@ -283,8 +288,23 @@ static int psc_cuda_step(psc_batch* b, const int32_t* actions, psc_step_result* 
     if (!s) s = check(d.cuMemcpyDtoH(won.data(), reinterpret_cast<CUdeviceptr>(cb->dev.won), n), "reading results");
     if (!s) s = check(d.cuMemcpyDtoH(steps.data(), reinterpret_cast<CUdeviceptr>(cb->dev.episodeSteps), sizeof(int32_t) * n), "reading results");
     if (s) return s;
+    // A pending again turn and a rule's message live in the environments:
+    // read them back only where they can be set.
+    std::vector<Env> envs;
+    if (cb->againMode == PSC_AGAIN_ONE_TURN || PSC_HAS_RULE_MESSAGES) {
+        envs.resize(n);
+        if (int r = check(d.cuMemcpyDtoH(envs.data(), reinterpret_cast<CUdeviceptr>(cb->dev.envs), sizeof(Env) * n),
+                          "reading results")) {
+            return r;
+        }
+    }
     for (size_t i = 0; i < n; ++i) {
         results[i] = psc_step_result{};
+        results[i].message = -1;
+        if (!envs.empty()) {
+            results[i].againing = envs[i].againing;
+            results[i].message = shownMessageOf(envs[i]);
+        }
         results[i].reward = rewards[i];
         results[i].terminated = terminated[i];
         results[i].truncated = truncated[i];

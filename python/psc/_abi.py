@@ -1,4 +1,4 @@
-"""ctypes mirror of runtime/psc_plugin.h (ABI version 1).
+"""ctypes mirror of runtime/psc_plugin.h (ABI version 3).
 
 The structs must match the header field for field; ctypes applies the same
 C alignment rules, so the layouts agree on every platform psc builds for.
@@ -7,7 +7,7 @@ C alignment rules, so the layouts agree on every platform psc builds for.
 import ctypes
 from ctypes import POINTER, c_char_p, c_double, c_int, c_int8, c_int32, c_size_t, c_uint8, c_uint32, c_uint64, c_void_p
 
-ABI_VERSION = 2
+ABI_VERSION = 3
 
 BACKEND_CPU = 0
 BACKEND_CUDA = 1
@@ -15,6 +15,9 @@ BACKEND_CUDA = 1
 AUTO_RESET_OFF = 0
 AUTO_RESET_SAME_STEP = 1
 AUTO_RESET_NEXT_STEP = 2
+
+AGAIN_SETTLE = 0
+AGAIN_ONE_TURN = 1
 
 ACTION_NAMES = ("up", "left", "down", "right", "action", "undo", "restart", "tick")
 ACTION_ACTION = 4
@@ -72,6 +75,9 @@ class GameInfo(ctypes.Structure):
         ("background_color", c_uint32),
         ("text_color", c_uint32),
         ("state_key_bytes", c_uint32),
+        ("again_interval", c_double),
+        ("rule_message_count", c_int32),
+        ("rule_messages", POINTER(c_char_p)),
     ]
 
 
@@ -85,6 +91,7 @@ class BatchOptions(ctypes.Structure):
         ("auto_reset", c_int32),
         ("max_episode_steps", c_int32),
         ("device", c_int32),
+        ("again_mode", c_int32),
     ]
 
 
@@ -96,6 +103,9 @@ class StepResult(ctypes.Structure):
         ("won", c_uint8),
         ("cut_off", c_uint8),
         ("episode_steps", c_int32),
+        ("message", c_int32),
+        ("againing", c_uint8),
+        ("reserved", c_uint8 * 3),
     ]
 
 

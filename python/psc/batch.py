@@ -33,6 +33,7 @@ class Batch:
         auto_reset: int,
         max_episode_steps: int,
         device: int = 0,
+        again_mode: int = _abi.AGAIN_SETTLE,
     ):
         self.plugin = plugin
         self.lib = plugin.lib
@@ -45,6 +46,7 @@ class Batch:
             auto_reset=auto_reset,
             max_episode_steps=max_episode_steps,
             device=device,
+            again_mode=again_mode,
         )
         handle = ctypes.c_void_p()
         plugin.check(self.lib.psc_batch_create(ctypes.byref(options), ctypes.byref(handle)), "creating the batch")

@@ -48,6 +48,8 @@ class GameInfo:
     background_color: int
     text_color: int
     state_key_bytes: int
+    again_interval: float  # seconds between `again` turns in the reference's player
+    rule_messages: Tuple[str, ...]  # texts of rules' `message` commands (step results' message indexes them)
 
     @property
     def level_count(self) -> int:
@@ -101,6 +103,8 @@ def _read_info(raw: _abi.GameInfo) -> GameInfo:
         background_color=raw.background_color,
         text_color=raw.text_color,
         state_key_bytes=raw.state_key_bytes,
+        again_interval=raw.again_interval,
+        rule_messages=tuple(_text(raw.rule_messages[i]) for i in range(raw.rule_message_count)),
     )
 
 

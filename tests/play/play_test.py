@@ -7,7 +7,9 @@ Covers: games/sokoban.txt's first level solved with arrow keys and on to the
 next level, the message screen before it, undo and restart, Q / Ctrl-C /
 SIGTERM and a crash leaving the terminal as it was (main screen, cursor, cooked mode),
 progress kept between runs, a resize redrawing the level as glyphs, the hint
-key, and the --scripted, --replay, --record and bad-argument paths.
+key, and the --scripted, --replay, --record and bad-argument paths; and
+games/kick.txt's `again` chain drawn a turn at a time, with the message its
+rule shows held until X.
 """
 import json
 import os
@@ -21,6 +23,8 @@ import time
 PSC = os.path.abspath(sys.argv[1])
 GAMES = os.path.abspath(sys.argv[2])
 SOKOBAN = os.path.join(GAMES, "sokoban.txt")
+# kick.txt level 1 is #P.o...G#: two steps right kick the ball, which rolls a cell per again turn into the goal.
+KICK = os.path.join(GAMES, "kick.txt")
 # Level 0 of sokoban.txt: the player goes round the crate's left and pushes it right onto the target.
 LEVEL0_SOLUTION = ["Left", "Left", "Up", "Right"]
 LEVEL0_START = ["#######", "#.....#", "#.*O..#", "#..P..#", "#######"]
@@ -142,9 +146,58 @@ def level_rows(pane):
     return [l.strip() for l in pane.lines()[1:-1] if l.strip() and set(l.strip()) <= set("#.*@OP")]
 
 
-def scripted(*args, keys=b"", timeout=120):
-    return subprocess.run([PSC, "play", SOKOBAN, "--scripted", *args], input=keys, capture_output=True,
+def scripted(*args, keys=b"", timeout=120, game=SOKOBAN):
+    return subprocess.run([PSC, "play", game, "--scripted", *args], input=keys, capture_output=True,
                           timeout=timeout, env=SCRIPTED_ENV)
+
+
+def kick_row(pane):
+    """Level 1 of kick.txt's row with the player, as glyphs."""
+    rows = [l.strip() for l in pane.lines()[1:-1] if l.strip().startswith("#") and "P" in l]
+    return rows[0] if rows else None
+
+
+def kick_tests():
+    warm = scripted("--level", "0", game=KICK, timeout=600)
+    check(warm.returncode == 0, "kick.txt: --scripted with no keys exits 0", warm.stderr.decode())
+    pane = Pane()
+    try:
+        pane.run_psc_play(KICK, "--level", "0", "--glyphs")
+        check(pane.wait_for(lambda s: kick_row(pane) == "#P.o...G#", "kick level 1"), "kick.txt: level 1 as glyphs")
+        pane.keys("Right", "Right")
+        frames = []
+        deadline = time.time() + 10
+        while time.time() < deadline and "Goal!" not in pane.screen():
+            row = kick_row(pane)
+            if row and (not frames or frames[-1] != row):
+                frames.append(row)
+            time.sleep(0.02)
+        rolling = [f for f in frames if "R" in f]
+        check(len(rolling) >= 2 and all(f.index("R") < g.index("R") for f, g in zip(rolling, rolling[1:])),
+              "the again chain is drawn a turn at a time: the ball rolls right frame by frame", str(frames))
+        check(pane.wait_for(lambda s: "Goal!" in s and "X to continue" in s and "message" in s.split("\n")[0],
+                            "the rule's message"), "the rule's message is shown, with X to continue")
+        pane.keys("Left")
+        time.sleep(0.3)
+        check("Goal!" in pane.screen(), "keys other than X leave the message shown")
+        pane.keys("x")
+        check(pane.wait_for(lambda s: "level 2 of 2" in s.split("\n")[0], "level 2"),
+              "X closes the message: the level won with it gives way to level 2")
+        pane.keys("q")
+        check(pane.exit_status() == 0, "q exits with status 0 after the kick")
+    finally:
+        pane.close()
+
+    out = scripted("--level", "0", game=KICK, keys=b"dddx").stdout.decode()
+    lines = out.split("\n")
+    check("message: Goal!" in lines and "solved level 1" in lines and
+          lines.index("message: Goal!") < lines.index("solved level 1"),
+          "--scripted: the rule's message comes before the win, as the reference checks it on closing", out)
+    check("Kick \u00b7 level 2 of 2 \u00b7 moves 0" in out,
+          "--scripted: a key while the message shows is dropped, X goes on to level 2", out)
+    replayed = scripted("--level", "0", "--replay", "rr", game=KICK).stdout.decode()
+    check("message: Goal!" in replayed and "solved level 1" in replayed,
+          "--replay waits for the again chain and shows the message", replayed)
 
 
 def main():
@@ -271,6 +324,8 @@ def main():
     check(bad.returncode == 2 and b"is not an input" in bad.stderr, "a bad --replay letter is an error", bad.stderr.decode())
     far = scripted("--level", "3")
     check(far.returncode == 2 and b"out of range" in far.stderr, "a level out of range is an error", far.stderr.decode())
+
+    kick_tests()
 
     shutil.rmtree(STATE, ignore_errors=True)
     print("%d passed, %d failed" % (passed, len(failures)))

@@ -114,7 +114,8 @@ def batch_creation(p, path):
         expect(p, f"batch_create with struct_size {size}", lib.psc_batch_create(byref(p.options(struct_size=size)), byref(b)),
                ABI)
     for field, value in (("num_envs", 0), ("num_envs", -1), ("num_envs", INT32_MIN), ("undo_depth", -1),
-                         ("auto_reset", -1), ("auto_reset", 3), ("max_episode_steps", -1)):
+                         ("auto_reset", -1), ("auto_reset", 3), ("max_episode_steps", -1),
+                         ("again_mode", -1), ("again_mode", 2)):
         expect(p, f"batch_create with {field} {value}", lib.psc_batch_create(byref(p.options(**{field: value})), byref(b)),
                BAD_ARG)
     for backend in (-1, 2, INT32_MAX):
