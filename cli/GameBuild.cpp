@@ -154,14 +154,23 @@ std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text
         if (!compileDeviceCode(game, text, path, options, &files)) return nullptr;
         source = codegen::cudaPluginSource(game, so, files);
     }
-    BuildResult built = buildCpuPlugin(source, options.build);
+    BuildOptions build = options.build;
+    build.units = codegen::hostCompileUnits(game, so);
+    BuildResult built = buildCpuPlugin(source, build);
     if (!built.ok) {
         fmt::print(stderr, "{}: error: building the plugin failed\n{}\n{}\n", path, built.command, built.log);
         return nullptr;
     }
     if (options.build.verbose) {
-        fmt::print(stderr, "psc: plugin {} ({})\n", built.pluginPath,
-                   built.cached ? "from the cache" : fmt::format("built in {:.2f} s", built.seconds));
+        std::string units;
+        if (!built.cached && built.unitSeconds.size() > 1) {
+            units = fmt::format("; {} compile units in {} processes at once, then the link:", build.units,
+                                built.unitSeconds.size() - 1);
+            for (double t : built.unitSeconds) units += fmt::format(" {:.2f}", t);
+            units += " s";
+        }
+        fmt::print(stderr, "psc: plugin {} ({}{})\n", built.pluginPath,
+                   built.cached ? "from the cache" : fmt::format("built in {:.2f} s", built.seconds), units);
     }
     std::string error;
     auto plugin = Plugin::open(built.pluginPath, &error);

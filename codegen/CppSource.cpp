@@ -572,6 +572,10 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options) {
 
 }  // namespace
 
+int hostCompileUnits(const ir::Game& game, const SourceOptions& options) {
+    return options.target == "cpu" ? 1 : gpuCode(game, options).units;
+}
+
 std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     CodeWriter out;
     const GpuCode gpu = gpuCode(game, options);
@@ -636,6 +640,8 @@ void emitPluginPrologue(CodeWriter& out, const ir::Game& game, const SourceOptio
     out.line();
     out.raw(deviceSource(game, options));
     out.line();
+    out.line(fmt::format("// The host side: compile unit 0 of {} (templates/core.h).", hostCompileUnits(game, options)));
+    out.raw("#if PSC_COMPILES_UNIT(0)\n");
     emitHostInfo(out, game, options);
     out.raw(templates::hostPrelude());
     out.line();
@@ -677,6 +683,7 @@ std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options,
     out.raw(templates::host());
     out.line();
     out.raw(templates::hostCudaImpl());
+    out.raw("#endif  // compile unit 0\n");
     return out.text();
 }
 
@@ -686,6 +693,7 @@ std::string cpuPluginSource(const ir::Game& game, const SourceOptions& options) 
     out.raw(templates::hostNoCuda());
     out.line();
     out.raw(templates::host());
+    out.raw("#endif  // compile unit 0\n");
     return out.text();
 }
 

@@ -54,6 +54,13 @@ struct DeviceCodeFiles {
 // The host translation unit of a plugin with both backends.
 std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options, const DeviceCodeFiles& device);
 
+// Compile units of the plugin's host side (templates/core.h), which the
+// system compiler compiles at once: the CUDA code's split for plugins with
+// both backends, whose host compile follows NVRTC's on the build's critical
+// path; 1 for CPU plugins, whose stepping loses up to 43 % (slidings) when
+// its rules and groups are compiled apart from the turn.
+int hostCompileUnits(const ir::Game& game, const SourceOptions& options);
+
 // Words of 64 bits per bitboard for the largest level built.
 int boardWords(const ir::Game& game, const SourceOptions& options);
 // Whether LEVELS entry `entry` is built (messages always are).

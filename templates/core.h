@@ -27,14 +27,18 @@
 //
 // Compile units: NVRTC may compile the CUDA code of a memory-layout game as
 // PSC_COMPILE_UNITS programs at once, each with PSC_UNIT set, as relocatable
-// code then linked (runtime/CudaCompiler.cpp).  Unit 0 defines the kernels
-// and the turn, unit k > 0 some of the rules and groups
+// code then linked (runtime/CudaCompiler.cpp); the system compiler compiles
+// a large game's plugin likewise, as objects of some units each (the bits of
+// PSC_UNIT_MASK) at once, one per core (runtime/PluginBuilder.cpp).  Unit 0 defines the kernels, the turn and the
+// plugin's host side, unit k > 0 some of the rules and groups
 // (PSC_COMPILES_UNIT(k)), which are the only functions one unit calls in
 // another (PSC_RULE).  Every other function is inline: a unit compiles only
 // those it uses, and copies in several units link as one.  Compiled as one
 // program (PSC_UNIT not set), the source defines everything.
 #if defined(PSC_UNIT)
 #define PSC_COMPILES_UNIT(k) ((k) == PSC_UNIT)
+#elif defined(PSC_UNIT_MASK)
+#define PSC_COMPILES_UNIT(k) (((PSC_UNIT_MASK) >> (k)) & 1)
 #else
 #define PSC_COMPILES_UNIT(k) 1
 #endif
@@ -80,7 +84,9 @@
 #else
 #define PSC_INLINE inline
 #endif
-#define PSC_COLD __attribute__((noinline))
+// `inline` where a function is compiled in every compile unit (the host
+// side of large games is compiled in parallel units, as the CUDA code is).
+#define PSC_COLD inline __attribute__((noinline))
 #define PSC_RULE
 #define PSC_LAYER inline
 #define PSC_TURN PSC_INLINE
@@ -88,7 +94,7 @@
 // stepping loop and the search's expansion) instead of inlined into each:
 // large games' plugins compile about a tenth faster (atlas), and the call
 // costs nothing next to a turn.
-#define PSC_INPUT __attribute__((noinline))
+#define PSC_INPUT inline __attribute__((noinline))
 #define PSC_TABLE static const
 #define PSC_UNROLL
 #define PSC_UNROLL_STATE

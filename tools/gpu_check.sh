@@ -20,6 +20,11 @@
 #             and a CUDA batch of sokoban stepped with the same actions must observe the same bytes
 #   fuzz      a fuzz campaign on the device machine's cores (tools/fuzz_campaign.sh --jobs $(nproc)), FUZZ_SECONDS
 #             per target (default 60), FUZZ_TARGETS (default all three); needs device_bundle.sh's FUZZ=1 bundle
+#   buildtime cold `psc GAME -o GAME.so --target cuda --levels 0` of each benchmark game (fresh cache), end to end,
+#             host side in one compile process (PSC_COMPILE_JOBS=1) and in parallel ones (the default), in turn,
+#             BUILD_REPEATS times (default 2); table in buildtime.txt
+#   profile   Nsight Compute on each benchmark game's stepping kernel (PROFILE_BATCH environments, default 131072,
+#             8 steps a launch, level 0): one CSV per game in profile.tar.gz; bench/ncu_table.py makes the table
 #   multigpu  (several GPUs) python/tests/test_multi_gpu.py; then for each of MULTI_GAMES (game:batches, batches
 #             per GPU) psc bench --devices over 1 and all GPUs (one process), and examples/torchrun_rollout.py
 #             on 1 and all GPUs at the last batch (one process a GPU)
@@ -172,6 +177,45 @@ for stage in "$@"; do
                 tar -czf "$out/fuzz-findings.tar.gz" -C /tmp/psc-fuzz-work findings
             fi
         done
+        ;;
+    buildtime)
+        for _ in $(seq "${BUILD_REPEATS:-2}"); do
+            for game in bench/games/*.txt; do
+                name=$(basename "$game" .txt)
+                for jobs in 1 0; do
+                    cache=$(mktemp -d)
+                    start=$(date +%s.%N)
+                    PSC_COMPILE_JOBS=$jobs XDG_CACHE_HOME=$cache "$psc" "$game" -o "$cache/$name.so" --target cuda --levels 0 \
+                        --verbose "${fast[@]}" > "$cache/log" 2>&1
+                    status=$?
+                    end=$(date +%s.%N)
+                    nvrtc=$(sed -n 's/.*CUDA compile (nvrtc[^)]*) \([0-9.]*\) s.*/\1/p' "$cache/log")
+                    host=$(sed -n 's/.*plugin .* (built in \([0-9.]*\) s.*/\1/p' "$cache/log")
+                    printf '%-16s jobs %-2s exit %s  total %6.2f s  nvrtc %6s s  host %6s s\n' "$name" "${jobs/0/all}" "$status" \
+                        "$(awk "BEGIN {print $end - $start}")" "$nvrtc" "$host"
+                    rm -rf "$cache"
+                done
+            done
+        done | tee "$out/buildtime.txt"
+        ;;
+    profile)
+        # The clocks as they are (METHOD.md); the second launch of the stepping kernel, after a warm-up one.
+        mkdir -p "$out/profile"
+        metrics=gpu__time_duration.sum,launch__registers_per_thread,launch__grid_size,launch__block_size
+        metrics+=,sm__warps_active.avg.pct_of_peak_sustained_active,sm__maximum_warps_per_active_cycle_pct
+        metrics+=,smsp__issue_active.avg.pct_of_peak_sustained_active,smsp__inst_executed.sum,smsp__thread_inst_executed.sum
+        metrics+=,smsp__sass_average_branch_targets_threads_uniform.pct,smsp__thread_inst_executed_per_inst_executed.ratio
+        metrics+=,l1tex__t_bytes_pipe_lsu_mem_local_op_ld.sum,l1tex__t_bytes_pipe_lsu_mem_local_op_st.sum,dram__bytes.sum
+        metrics+=,smsp__average_warp_latency_issue_stalled_long_scoreboard.ratio,smsp__average_warp_latency_issue_stalled_barrier.ratio
+        for game in bench/games/*.txt; do
+            name=$(basename "$game" .txt)
+            timeout 300 ncu --clock-control none --kernel-name psc_run_kernel --launch-skip 1 --launch-count 1 \
+                --metrics "$metrics" --csv --print-units base \
+                "$psc" bench "$game" --backend cuda --batch "${PROFILE_BATCH:-131072}" --steps 8 --repeats 1 --warmup 1 \
+                "${fast[@]}" "${state[@]}" > "$out/profile/$name.csv" 2> "$out/profile/$name.err"
+            echo "$name: ncu exit $?, $(grep -c psc_run_kernel "$out/profile/$name.csv") metric rows"
+        done
+        tar -czf "$out/profile.tar.gz" -C "$out" profile && rm -rf "$out/profile"
         ;;
     multigpu)
         # Results in one archive, multigpu.tar.gz (a device call brings back a few files only).
