@@ -183,6 +183,70 @@ ChildResult runChild(const std::vector<std::string>& argv, const std::string& lo
     return r;
 }
 
+ChildResult runForked(const std::function<std::string()>& work, std::string* output, double wallSeconds) {
+    ChildResult r;
+    const auto start = std::chrono::steady_clock::now();
+    output->clear();
+    int pipeFds[2];
+    if (pipe2(pipeFds, O_CLOEXEC) != 0) {
+        r.error = fmt::format("cannot create a pipe: {}", std::strerror(errno));
+        return r;
+    }
+    std::fflush(stdout);
+    std::fflush(stderr);
+    const pid_t parent = getpid();
+    const pid_t child = fork();
+    if (child == 0) {
+        close(pipeFds[0]);
+        prctl(PR_SET_PDEATHSIG, SIGKILL);
+        if (getppid() != parent) _exit(1);
+        std::string out;
+        try {
+            out = work();
+        } catch (...) {
+            _exit(3);
+        }
+        _exit(writeAll(pipeFds[1], out.data(), out.size()) ? 0 : 2);
+    }
+    close(pipeFds[1]);
+    if (child < 0) {
+        close(pipeFds[0]);
+        r.error = fmt::format("cannot fork: {}", std::strerror(errno));
+        return r;
+    }
+    r.started = true;
+    char buffer[1 << 16];
+    for (;;) {
+        int waitMs = -1;
+        if (wallSeconds > 0) {
+            const double left = wallSeconds - secondsSince(start);
+            if (left <= 0) {
+                r.timedOut = true;
+                break;
+            }
+            waitMs = static_cast<int>(left * 1000) + 1;
+        }
+        pollfd pfd{pipeFds[0], POLLIN, 0};
+        const int ready = poll(&pfd, 1, waitMs);
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready == 0) continue;  // the deadline check above ends it
+        const ssize_t n = read(pipeFds[0], buffer, sizeof buffer);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        output->append(buffer, static_cast<size_t>(n));
+    }
+    close(pipeFds[0]);
+    if (r.timedOut) kill(child, SIGKILL);
+    int status = 0;
+    while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+    }
+    r.seconds = secondsSince(start);
+    if (r.timedOut) return r;
+    if (WIFEXITED(status)) r.exitCode = WEXITSTATUS(status);
+    else if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+    return r;
+}
+
 ChildLimits defaultCompileLimits() {
     ChildLimits limits;
     limits.wallSeconds = kDefaultCompileSeconds;

@@ -9,6 +9,7 @@
 // group: the compiler driver and what it started (cc1plus, as, ptxas).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,14 @@ struct ChildResult {
 // Runs argv[0] (searched in PATH when it has no '/') with argv, its stdout and
 // stderr written to `logPath` (empty: /dev/null), and waits for it.
 ChildResult runChild(const std::vector<std::string>& argv, const std::string& logPath, const ChildLimits& limits);
+
+// Runs `work` in a forked copy of psc, for a compiler that runs inside psc
+// (NVRTC), so that it too has a wall-clock limit (`wallSeconds`, 0: none)
+// and dies with psc; `*output` receives what `work` returned.  No memory
+// limit: a sanitizer's shadow memory already spans more address space than
+// any limit would allow.  Call it while psc runs no other thread (the copy
+// has only the calling one, and a lock another held would stay locked).
+ChildResult runForked(const std::function<std::string()>& work, std::string* output, double wallSeconds);
 
 // The program's path: `name` when it has a '/', else its first match in PATH;
 // empty when there is none.

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -16,6 +17,7 @@
 #include <regex>
 #include <set>
 #include <sstream>
+#include <string_view>
 #include <dlfcn.h>
 #include <unistd.h>
 
@@ -275,6 +277,71 @@ std::string cudaCompilerProblem(const std::string& compiler) {
     return "unknown CUDA compiler " + compiler;
 }
 
+namespace {
+
+// A compile result as bytes, from NVRTC's forked process to psc.
+void putString(std::string& out, std::string_view s) {
+    const uint64_t n = s.size();
+    out.append(reinterpret_cast<const char*>(&n), sizeof n);
+    out.append(s);
+}
+void putStrings(std::string& out, const std::vector<std::string>& v) {
+    putString(out, std::to_string(v.size()));
+    for (const auto& s : v) putString(out, s);
+}
+
+struct Reader {
+    std::string_view in;
+    bool ok = true;
+    std::string string() {
+        uint64_t n = 0;
+        if (in.size() < sizeof n) return ok = false, std::string();
+        std::memcpy(&n, in.data(), sizeof n);
+        in.remove_prefix(sizeof n);
+        if (in.size() < n) return ok = false, std::string();
+        std::string s(in.substr(0, n));
+        in.remove_prefix(n);
+        return s;
+    }
+    std::vector<std::string> strings() {
+        const size_t n = std::strtoull(string().c_str(), nullptr, 10);
+        std::vector<std::string> v;
+        for (size_t i = 0; ok && i < n; ++i) v.push_back(string());
+        return v;
+    }
+};
+
+std::string pack(const CudaCompileResult& r) {
+    std::string out;
+    putString(out, r.ok ? "1" : "0");
+    putString(out, std::string_view(r.cubin.data(), r.cubin.size()));
+    putStrings(out, r.ptx);
+    putString(out, r.log);
+    putStrings(out, r.options);
+    putString(out, std::to_string(r.units));
+    putStrings(out, r.linkOptions);
+    std::vector<std::string> seconds;
+    for (double t : r.unitSeconds) seconds.push_back(fmt::format("{}", t));
+    putStrings(out, seconds);
+    return out;
+}
+
+bool unpack(std::string_view bytes, CudaCompileResult& r) {
+    Reader in{bytes};
+    r.ok = in.string() == "1";
+    const std::string cubin = in.string();
+    r.cubin.assign(cubin.begin(), cubin.end());
+    r.ptx = in.strings();
+    r.log = in.string();
+    r.options = in.strings();
+    r.units = std::atoi(in.string().c_str());
+    r.linkOptions = in.strings();
+    for (const auto& t : in.strings()) r.unitSeconds.push_back(std::atof(t.c_str()));
+    return in.ok && in.in.empty();
+}
+
+}  // namespace
+
 CudaCompileResult compileCuda(const std::string& source, const std::string& name, const CudaCompileOptions& options) {
     CudaCompileResult r;
     const auto start = std::chrono::steady_clock::now();
@@ -285,7 +352,27 @@ CudaCompileResult compileCuda(const std::string& source, const std::string& name
         // every unit's code (tests/correctness/cuda_compile_units.py compiles and
         // links units), and CI checks a thousand games so.
         const int units = options.syntaxOnly ? 1 : compileUnitsOf(source);
-        r.ok = nvrtc->compile(source, name, options, units, r);
+        // In a forked copy, so that a compile that runs too long stops (NVRTC
+        // has no time limit of its own) and dies with psc.
+        const double wall = options.wallSeconds >= 0 ? options.wallSeconds : defaultCompileLimits().wallSeconds;
+        std::string packed;
+        const ChildResult child = runForked(
+            [&] {
+                CudaCompileResult inChild;
+                inChild.ok = nvrtc->compile(source, name, options, units, inChild);
+                return pack(inChild);
+            },
+            &packed, wall);
+        if (child.timedOut) {
+            r.timedOut = true;
+            r.log = fmt::format("NVRTC {}\n", limitMessage(child, ChildLimits{wall, 0}, ""));
+        } else if (!child.ok() || !unpack(packed, r)) {
+            r.ok = false;
+            r.log = child.error.empty() ? fmt::format("NVRTC's process ended without a result ({})\n",
+                                                      child.signal ? fmt::format("signal {}", child.signal)
+                                                                   : fmt::format("status {}", child.exitCode))
+                                        : child.error + "\n";
+        }
     } else {
         r.log = nvrtcModule().problem + "\n";
     }

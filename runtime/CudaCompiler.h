@@ -20,6 +20,9 @@ struct CudaCompileOptions {
     // The compilers' -Ofast-compile level: 0 (full optimisation), min, mid or
     // max (fastest compile); docs/performance.md measures what each costs.
     std::string fastCompile = "0";
+    // NVRTC runs in a forked copy of psc stopped at this many seconds (0:
+    // none); default: PSC_COMPILE_TIMEOUT, as the system compiler's bound.
+    double wallSeconds = -1;
 };
 
 struct CudaCompileResult {
@@ -32,6 +35,7 @@ struct CudaCompileResult {
     std::vector<std::string> linkOptions;  // nvJitLink's, when units > 1
     double seconds = 0;                // total compile time
     std::vector<double> unitSeconds;   // each unit's NVRTC time (they overlap)
+    bool timedOut = false;             // NVRTC stopped at options.wallSeconds (log says so)
     // Stack a thread needs (stackBound): the driver's default limit (1 KB)
     // overflows in games whose state lives in local memory.
     size_t stackBytes = 0;

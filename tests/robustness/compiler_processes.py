@@ -7,7 +7,9 @@ every process it started (the compiler driver and what that started) must be
 gone within a few seconds.  A compiler over the time limit
 (PSC_COMPILE_TIMEOUT) or the memory limit (PSC_COMPILE_MEMORY_MB) is stopped
 with an error that names the limit.  Most cases use a stand-in compiler (a
-script that starts a child and sleeps), one the real C++ compiler."""
+script that starts a child and sleeps), one the real C++ compiler.  Where psc
+has NVRTC, which runs in a forked copy of psc, the same holds for it: a kill
+leaves no copy behind, and PSC_COMPILE_TIMEOUT stops it."""
 import os
 import signal
 import stat
@@ -94,6 +96,27 @@ def killed_build(name, env, tmp, sig, marker):
           + ("" if left is True else f" (still running: {sorted(left)})"))
 
 
+def nvrtc_cases(tmp):
+    env = dict(os.environ, PSC_CACHE_DIR=os.path.join(tmp, "cache-nvrtc"))
+    env.pop("CXX", None)
+    start = time.monotonic()
+    r = subprocess.run([PSC, GAME, "-o", os.path.join(tmp, "game-cuda.so"), "--target", "cuda"],
+                       env=dict(env, PSC_COMPILE_TIMEOUT="0.2"), capture_output=True, text=True, timeout=120)
+    seconds = time.monotonic() - start
+    check(r.returncode != 0 and "NVRTC stopped at the compile time limit of 0.2 s" in r.stderr and seconds < 10,
+          f"NVRTC over PSC_COMPILE_TIMEOUT=0.2 is stopped with an error naming the limit ({seconds:.1f} s)"
+          + ("" if "NVRTC stopped" in r.stderr else f": {r.stderr[-300:]}"))
+    # A kill while NVRTC compiles: its forked copy of psc goes too.
+    psc = subprocess.Popen([PSC, GAME, "-o", os.path.join(tmp, "game-cuda.so"), "--target", "cuda"], env=env,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    forked = wait_for(lambda: descendants(psc.pid), 60)
+    check(bool(forked), "NVRTC's forked copy of psc runs under psc")
+    psc.send_signal(signal.SIGTERM)
+    psc.wait(timeout=30)
+    left = wait_for(lambda: not alive(forked), 5) or alive(forked)
+    check(left is True, "NVRTC's forked copy is gone after SIGTERM" + ("" if left is True else f" (still running: {sorted(left)})"))
+
+
 def main():
     with tempfile.TemporaryDirectory() as tmp:
         slow = os.path.join(tmp, "slow-compiler")
@@ -121,6 +144,8 @@ def main():
                            env=dict(real, PSC_COMPILE_MEMORY_MB="64"), capture_output=True, text=True, timeout=300)
         check(r.returncode != 0 and "memory limit of 64 MB" in r.stderr and "PSC_COMPILE_MEMORY_MB" in r.stderr,
               "a compiler over PSC_COMPILE_MEMORY_MB=64 fails with an error naming the limit")
+        if "NVRTC available" in subprocess.run([PSC, "--version"], capture_output=True, text=True).stdout:
+            nvrtc_cases(tmp)
     print(f"{len(FAILURES)} failure(s)")
     return 1 if FAILURES else 0
 
