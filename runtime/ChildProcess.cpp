@@ -100,6 +100,22 @@ std::string findProgram(const std::string& name) {
     return {};
 }
 
+// Waits until `fd` is readable or the wall-clock limit (0: none) counted
+// from `start` has passed; false at the limit.
+bool waitReadable(int fd, double wallSeconds, std::chrono::steady_clock::time_point start) {
+    for (;;) {
+        int waitMs = -1;
+        if (wallSeconds > 0) {
+            const double left = wallSeconds - secondsSince(start);
+            if (left <= 0) return false;
+            waitMs = static_cast<int>(left * 1000) + 1;
+        }
+        pollfd pfd{fd, POLLIN, 0};
+        const int ready = poll(&pfd, 1, waitMs);
+        if (ready > 0 || (ready < 0 && errno != EINTR)) return true;  // the read that follows says which
+    }
+}
+
 ChildResult runChild(const std::vector<std::string>& argv, const std::string& logPath, const ChildLimits& limits) {
     ChildResult r;
     const auto start = std::chrono::steady_clock::now();
@@ -143,19 +159,10 @@ ChildResult runChild(const std::vector<std::string>& argv, const std::string& lo
     int status = 0;
     size_t got = 0;
     for (;;) {
-        int waitMs = -1;
-        if (limits.wallSeconds > 0) {
-            const double left = limits.wallSeconds - secondsSince(start);
-            if (left <= 0) {
-                r.timedOut = true;
-                break;
-            }
-            waitMs = static_cast<int>(left * 1000) + 1;
+        if (!waitReadable(statusPipe[0], limits.wallSeconds, start)) {
+            r.timedOut = true;
+            break;
         }
-        pollfd pfd{statusPipe[0], POLLIN, 0};
-        const int ready = poll(&pfd, 1, waitMs);
-        if (ready < 0 && errno == EINTR) continue;
-        if (ready == 0) continue;  // the deadline check above ends it
         const ssize_t n = read(statusPipe[0], reinterpret_cast<char*>(&status) + got, sizeof status - got);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) break;  // the supervisor died without a report
@@ -217,19 +224,10 @@ ChildResult runForked(const std::function<std::string()>& work, std::string* out
     r.started = true;
     char buffer[1 << 16];
     for (;;) {
-        int waitMs = -1;
-        if (wallSeconds > 0) {
-            const double left = wallSeconds - secondsSince(start);
-            if (left <= 0) {
-                r.timedOut = true;
-                break;
-            }
-            waitMs = static_cast<int>(left * 1000) + 1;
+        if (!waitReadable(pipeFds[0], wallSeconds, start)) {
+            r.timedOut = true;
+            break;
         }
-        pollfd pfd{pipeFds[0], POLLIN, 0};
-        const int ready = poll(&pfd, 1, waitMs);
-        if (ready < 0 && errno == EINTR) continue;
-        if (ready == 0) continue;  // the deadline check above ends it
         const ssize_t n = read(pipeFds[0], buffer, sizeof buffer);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) break;
