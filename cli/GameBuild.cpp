@@ -80,13 +80,17 @@ void printResourceReport(const std::string& log) {
 
 }  // namespace
 
+std::string deviceCodeKey(const std::string& cudaSource, const GameBuildOptions& options) {
+    return sha1Hex(fmt::format("{}\n{}\n{}\n{}", options.cuda.compiler, options.cuda.architecture, options.cuda.fastCompile,
+                               cudaSource));
+}
+
 std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const std::string& text,
                                                    const std::string& path, const GameBuildOptions& options,
                                                    codegen::DeviceCodeFiles* files) {
     const codegen::SourceOptions so = sourceOptions(text, path, options);
     const std::string source = codegen::cudaSource(game, so);
-    const std::string key = sha1Hex(fmt::format("{}\n{}\n{}\n{}", options.cuda.compiler, options.cuda.architecture,
-                                                 options.cuda.fastCompile, source));
+    const std::string key = deviceCodeKey(source, options);
     const fs::path dir = options.build.cacheDir.empty() ? defaultCacheDir() : options.build.cacheDir;
     const fs::path cubinPath = dir / (key + ".cubin");
     const fs::path ptxPath = dir / (key + ".ptx");
@@ -146,17 +150,19 @@ std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const s
 std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text, const std::string& path,
                                    const GameBuildOptions& options, std::string* pluginPath) {
     const codegen::SourceOptions so = sourceOptions(text, path, options);
-    std::string source;
-    if (options.target == "cpu") {
-        source = codegen::cpuPluginSource(game, so);
-    } else {
-        codegen::DeviceCodeFiles files;
-        if (!compileDeviceCode(game, text, path, options, &files)) return nullptr;
-        source = codegen::cudaPluginSource(game, so, files);
-    }
     BuildOptions build = options.build;
     build.units = codegen::hostCompileUnits(game, so);
-    BuildResult built = buildCpuPlugin(source, build);
+    BuildResult built;
+    if (options.target == "cpu") {
+        built = buildCpuPlugin(codegen::cpuPluginSource(game, so), build);
+    } else {
+        // The host side compiles while NVRTC does; the device code joins it at the link.
+        PluginBuild host(codegen::cudaPluginSource(game, so), build,
+                         deviceCodeKey(codegen::cudaSource(game, so), options));
+        codegen::DeviceCodeFiles files;
+        if (!host.cached() && !compileDeviceCode(game, text, path, options, &files)) return nullptr;
+        built = host.cached() ? host.finish() : host.finish(codegen::deviceCodeSource(files));
+    }
     if (!built.ok) {
         fmt::print(stderr, "{}: error: building the plugin failed\n{}\n{}\n", path, built.command, built.log);
         return nullptr;
@@ -164,8 +170,8 @@ std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text
     if (options.build.verbose) {
         std::string units;
         if (!built.cached && built.unitSeconds.size() > 1) {
-            units = fmt::format("; {} compile units in {} processes at once, then the link:", build.units,
-                                built.unitSeconds.size() - 1);
+            units = fmt::format("; {} compile units in {} processes at once, the device code, then the link:", build.units,
+                                built.unitSeconds.size() - 2);
             for (double t : built.unitSeconds) units += fmt::format(" {:.2f}", t);
             units += " s";
         }

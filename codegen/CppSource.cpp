@@ -610,6 +610,15 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
 
 namespace {
 
+// What the plugin's host source knows of its device code (deviceCodeSource
+// defines it).
+constexpr const char* kDeviceCodeDeclarations =
+    "extern \"C\" const unsigned char psc_device_cubin[];\n"
+    "extern \"C\" const unsigned char psc_device_ptx[];  // each unit's PTX, then a NUL\n"
+    "extern \"C\" const size_t psc_device_ptx_bytes[];   // each unit's, the NUL left out\n"
+    "extern \"C\" const int psc_device_ptx_units;\n"
+    "extern \"C\" const size_t psc_device_stack_bytes;\n";
+
 // A file's bytes, then a NUL, as a hidden read-only symbol: an assembler
 // directive for the plugin's source (the assembler reads the file at build time).
 std::vector<std::string> includedBytes(const std::string& symbol, const std::string& path) {
@@ -648,35 +657,12 @@ void emitPluginPrologue(CodeWriter& out, const ir::Game& game, const SourceOptio
 }
 }  // namespace
 
-std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options, const DeviceCodeFiles& device) {
+std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options) {
     CodeWriter out;
     emitPluginPrologue(out, game, options);
-    out.line("// ---- the game's device code, compiled for CUDA: the cubin, and the PTX of each compile");
-    out.line("// unit (templates/core.h) for GPUs the cubin is not for, each followed by a NUL byte.");
-    std::vector<std::string> directives = {".pushsection .rodata"};
-    for (const auto& d : includedBytes("psc_device_cubin", device.cubinPath)) directives.push_back(d);
-    for (const auto& d : includedBytes("psc_device_ptx", device.ptxPath)) directives.push_back(d);
-    directives.push_back(".popsection");
-    out.line("__asm__(");
-    for (const auto& d : directives) out.line("    " + cString(d + "\n"));
-    out.line(");");
-    out.line("extern \"C\" const unsigned char psc_device_cubin[];");
-    out.line("extern \"C\" const unsigned char psc_device_ptx[];");
-    out.line("namespace psc_game {");
-    out.line("static const unsigned char* const kCubin = psc_device_cubin;");
-    std::vector<std::string> units;
-    size_t offset = 0;
-    for (size_t bytes : device.ptxBytes) {
-        units.push_back(fmt::format("psc_device_ptx + {}", offset));
-        offset += bytes + 1;
-    }
-    out.line(fmt::format("static const unsigned char* const kPtx[] = {{{}}};", join(units, ", ")));
-    out.line(fmt::format("static const size_t kPtxBytes[] = {{{}}};",
-                         list(device.ptxBytes, [](size_t b) { return std::to_string(b); })));
-    out.line(fmt::format("constexpr int kPtxUnits = {};", device.ptxBytes.size()));
-    out.line(fmt::format("constexpr size_t kStackBytes = {};  // per thread, a bound on the kernels' call stacks",
-                         device.stackBytes));
-    out.line("}  // namespace psc_game");
+    out.line("// ---- the game's device code, compiled for CUDA, is defined by a second source");
+    out.line("// (deviceCodeSource), compiled once NVRTC is done: this one compiles meanwhile.");
+    out.raw(kDeviceCodeDeclarations);
     out.line();
     out.raw(templates::hostCuda());
     out.line();
@@ -684,6 +670,27 @@ std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options,
     out.line();
     out.raw(templates::hostCudaImpl());
     out.raw("#endif  // compile unit 0\n");
+    return out.text();
+}
+
+std::string deviceCodeSource(const DeviceCodeFiles& device) {
+    CodeWriter out;
+    out.line("// The device code of a psc plugin: the cubin, and the PTX of each compile unit");
+    out.line("// (templates/core.h) for GPUs the cubin is not for, each followed by a NUL byte.");
+    out.line("#include <stddef.h>");
+    out.raw(kDeviceCodeDeclarations);
+    std::vector<std::string> directives = {".pushsection .rodata"};
+    for (const auto& d : includedBytes("psc_device_cubin", device.cubinPath)) directives.push_back(d);
+    for (const auto& d : includedBytes("psc_device_ptx", device.ptxPath)) directives.push_back(d);
+    directives.push_back(".popsection");
+    out.line("__asm__(");
+    for (const auto& d : directives) out.line("    " + cString(d + "\n"));
+    out.line(");");
+    out.line(fmt::format("extern \"C\" const size_t psc_device_ptx_bytes[] = {{{}}};",
+                         list(device.ptxBytes, [](size_t b) { return std::to_string(b); })));
+    out.line(fmt::format("extern \"C\" const int psc_device_ptx_units = {};", device.ptxBytes.size()));
+    out.line(fmt::format("extern \"C\" const size_t psc_device_stack_bytes = {};  // per thread, a bound on the kernels' stacks",
+                         device.stackBytes));
     return out.text();
 }
 

@@ -51,8 +51,11 @@ struct DeviceCodeFiles {
     std::vector<size_t> ptxBytes;  // each unit's size, in file order
     size_t stackBytes = 0;         // per thread, a bound on the kernels' call stacks
 };
-// The host translation unit of a plugin with both backends.
-std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options, const DeviceCodeFiles& device);
+// The host translation unit of a plugin with both backends, which compiles
+// while NVRTC does: it declares the device code, which deviceCodeSource
+// defines (the two are linked into one plugin).
+std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options);
+std::string deviceCodeSource(const DeviceCodeFiles& device);
 
 // Compile units of the plugin's host side (templates/core.h), which the
 // system compiler compiles at once: the CUDA code's split for plugins with

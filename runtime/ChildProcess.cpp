@@ -213,7 +213,10 @@ ChildResult runForked(const std::function<std::string()>& work, std::string* out
         } catch (...) {
             _exit(3);
         }
-        _exit(writeAll(pipeFds[1], out.data(), out.size()) ? 0 : 2);
+        // Its length first: the pipe may stay open in processes that other
+        // threads of psc fork meanwhile, so its end is no sign of completion.
+        const uint64_t size = out.size();
+        _exit(writeAll(pipeFds[1], &size, sizeof size) && writeAll(pipeFds[1], out.data(), out.size()) ? 0 : 2);
     }
     close(pipeFds[1]);
     if (child < 0) {
@@ -223,7 +226,13 @@ ChildResult runForked(const std::function<std::string()>& work, std::string* out
     }
     r.started = true;
     char buffer[1 << 16];
+    std::string received;
+    uint64_t size = 0;
     for (;;) {
+        if (received.size() >= sizeof size) {
+            std::memcpy(&size, received.data(), sizeof size);
+            if (received.size() - sizeof size >= size) break;
+        }
         if (!waitReadable(pipeFds[0], wallSeconds, start)) {
             r.timedOut = true;
             break;
@@ -231,8 +240,9 @@ ChildResult runForked(const std::function<std::string()>& work, std::string* out
         const ssize_t n = read(pipeFds[0], buffer, sizeof buffer);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) break;
-        output->append(buffer, static_cast<size_t>(n));
+        received.append(buffer, static_cast<size_t>(n));
     }
+    if (received.size() >= sizeof size && received.size() - sizeof size == size) *output = received.substr(sizeof size);
     close(pipeFds[0]);
     if (r.timedOut) kill(child, SIGKILL);
     int status = 0;

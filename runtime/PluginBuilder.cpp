@@ -35,6 +35,12 @@ std::vector<std::string> words(const std::string& s) {
     return out;
 }
 
+bool writeText(const fs::path& p, const std::string& text) {
+    std::ofstream out(p, std::ios::binary);
+    out << text;
+    return static_cast<bool>(out);
+}
+
 std::string readFile(const fs::path& p) {
     std::ifstream in(p);
     std::stringstream ss;
@@ -53,11 +59,7 @@ std::string defaultCacheDir() {
 
 namespace {
 
-struct Step {
-    std::vector<std::string> argv;
-    std::string log;
-    ChildResult result;
-};
+using Step = PluginBuild::Step;
 
 // The compiler's failure, in words (its output, or the limit that stopped it).
 std::string failureLog(const Step& step, const ChildLimits& limits) {
@@ -107,101 +109,150 @@ void runAll(std::vector<Step>& steps, const ChildLimits& limits, unsigned parall
 
 }  // namespace
 
-BuildResult buildCpuPlugin(const std::string& source, const BuildOptions& options) {
-    BuildResult r;
-    const auto start = std::chrono::steady_clock::now();
-    std::string compiler = options.compiler;
-    if (compiler.empty()) compiler = std::getenv("CXX") && *std::getenv("CXX") ? std::getenv("CXX") : "c++";
-    std::string flags = "-std=c++17 " + options.optimization + " -fPIC -pthread -w -fvisibility=hidden";
-    if (options.native) flags += " -march=native";
+PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options, const std::string& extraKey)
+    : options_(options), start_(std::chrono::steady_clock::now()) {
+    compiler_ = options.compiler;
+    if (compiler_.empty()) compiler_ = std::getenv("CXX") && *std::getenv("CXX") ? std::getenv("CXX") : "c++";
+    flags_ = "-std=c++17 " + options.optimization + " -fPIC -pthread -w -fvisibility=hidden";
+    if (options.native) flags_ += " -march=native";
     const int units = std::max(1, options.units);
-    const fs::path dir = options.cacheDir.empty() ? defaultCacheDir() : options.cacheDir;
-    const std::string key = sha1Hex(fmt::format("{}\n{}\n{}\n{}", compiler, flags, units, source));
-    const fs::path plugin = dir / (key + ".so");
-    r.pluginPath = plugin.string();
+    dir_ = options.cacheDir.empty() ? defaultCacheDir() : options.cacheDir;
+    key_ = sha1Hex(fmt::format("{}\n{}\n{}\n{}\n{}", compiler_, flags_, units, extraKey, source));
+    result_.pluginPath = (dir_ / (key_ + ".so")).string();
     std::error_code ec;
-    if (fs::exists(plugin, ec)) {
-        r.ok = true;
-        r.cached = true;
-        return r;
+    if (fs::exists(result_.pluginPath, ec)) {
+        result_.ok = true;
+        result_.cached = true;
+        done_ = true;
+        return;
     }
-    fs::create_directories(dir, ec);
+    fs::create_directories(dir_, ec);
     if (ec) {
-        r.log = "cannot create the plugin cache " + dir.string() + ": " + ec.message();
-        return r;
+        fail("cannot create the plugin cache " + dir_.string() + ": " + ec.message());
+        return;
     }
-    const std::string unique = fmt::format("{}.{}", key, static_cast<long>(getpid()));
-    const fs::path src = dir / (unique + ".cpp");
-    const fs::path tmp = dir / (unique + ".so");
-    {
-        std::ofstream out(src, std::ios::binary);
-        out << source;
-        if (!out) {
-            r.log = "cannot write " + src.string();
-            return r;
-        }
+    unique_ = fmt::format("{}.{}", key_, static_cast<long>(getpid()));
+    source_ = dir_ / (unique_ + ".cpp");
+    if (!writeText(source_, source)) {
+        fail("cannot write " + source_.string());
+        return;
     }
-    const ChildLimits limits = options.limits ? *options.limits : defaultCompileLimits();
-    auto compilerWith = [&](const std::vector<std::string>& more) {
-        std::vector<std::string> argv = words(compiler);
-        for (const auto& f : words(flags)) argv.push_back(f);
-        for (const auto& a : more) argv.push_back(a);
-        return argv;
-    };
-    // One process: compiled and linked at once.  Several (one per core, or
-    // $PSC_COMPILE_JOBS): the units shared out by expected cost, all compiled
-    // at once, then linked.
-    unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    limits_ = options.limits ? *options.limits : defaultCompileLimits();
+    // One process per core, or $PSC_COMPILE_JOBS: the units shared out by
+    // expected cost, all compiled at once, then linked.
+    cores_ = std::max(1u, std::thread::hardware_concurrency());
     if (const char* jobs = std::getenv("PSC_COMPILE_JOBS"); jobs && std::atoi(jobs) > 0) {
-        cores = static_cast<unsigned>(std::atoi(jobs));
+        cores_ = static_cast<unsigned>(std::atoi(jobs));
     }
-    const int processes = static_cast<int>(std::min<unsigned>(cores, static_cast<unsigned>(units)));
-    std::vector<Step> compiles;
-    std::vector<fs::path> objects;
-    if (processes == 1) {
-        compiles.push_back({compilerWith({"-shared", "-o", tmp.string(), src.string()}), (dir / (unique + ".log")).string(), {}});
-    } else {
-        for (const unsigned mask : shareOut(units, processes)) {
-            objects.push_back(dir / fmt::format("{}.{}.o", unique, objects.size()));
-            compiles.push_back({compilerWith({fmt::format("-DPSC_UNIT_MASK={}u", mask), "-c", "-o", objects.back().string(), src.string()}),
-                                (dir / fmt::format("{}.{}.log", unique, objects.size() - 1)).string(), {}});
+    const int processes = static_cast<int>(std::min<unsigned>(cores_, static_cast<unsigned>(units)));
+    if (processes == 1 && extraKey.empty()) {
+        // Compiled and linked at once.
+        std::vector<std::string> argv = words(compiler_);
+        for (const auto& f : words(flags_)) argv.push_back(f);
+        for (const auto& a : {std::string("-shared"), std::string("-o"), (dir_ / (unique_ + ".so")).string(), source_.string()}) {
+            argv.push_back(a);
         }
+        steps_.push_back({argv, (dir_ / (unique_ + ".log")).string(), {}});
+        result_.command = commandLine(argv);
+        if (options_.verbose) fmt::print(stderr, "psc: {}\n", result_.command);
+        linkedAtOnce_ = true;
     }
-    for (const auto& step : compiles) {
-        r.command += (r.command.empty() ? "" : "\n") + commandLine(step.argv);
-        if (options.verbose) fmt::print(stderr, "psc: {}\n", commandLine(step.argv));
+    const std::vector<unsigned> masks = processes == 1 ? std::vector<unsigned>{0u} : shareOut(units, processes);
+    for (const unsigned mask : linkedAtOnce_ ? std::vector<unsigned>{} : masks) {
+        std::vector<std::string> more;
+        if (processes > 1) more.push_back(fmt::format("-DPSC_UNIT_MASK={}u", mask));
+        addObject(source_, more);
     }
-    runAll(compiles, limits, cores);
-    std::vector<Step> steps = compiles;
-    bool ok = std::all_of(compiles.begin(), compiles.end(), [](const Step& s) { return s.result.ok(); });
-    if (ok && processes > 1) {
-        std::vector<std::string> link = words(compiler);
+    compiling_ = std::thread([this] { runAll(steps_, limits_, cores_); });
+}
+
+PluginBuild::~PluginBuild() {
+    if (compiling_.joinable()) compiling_.join();
+    cleanUp();
+}
+
+void PluginBuild::fail(const std::string& why) {
+    result_.log = why;
+    done_ = true;
+}
+
+void PluginBuild::addObject(const fs::path& source, const std::vector<std::string>& more) {
+    std::vector<std::string> argv = words(compiler_);
+    for (const auto& f : words(flags_)) argv.push_back(f);
+    for (const auto& a : more) argv.push_back(a);
+    objects_.push_back(dir_ / fmt::format("{}.{}.o", unique_, objects_.size()));
+    for (const auto& a : {std::string("-c"), std::string("-o"), objects_.back().string(), source.string()}) argv.push_back(a);
+    steps_.push_back({argv, (dir_ / fmt::format("{}.{}.log", unique_, steps_.size())).string(), {}});
+    result_.command += (result_.command.empty() ? "" : "\n") + commandLine(argv);
+    if (options_.verbose) fmt::print(stderr, "psc: {}\n", commandLine(argv));
+}
+
+void PluginBuild::cleanUp() {
+    std::error_code ec;
+    for (const auto& step : steps_) fs::remove(step.log, ec);
+    for (const auto& o : objects_) fs::remove(o, ec);
+    if (!lateSource_.empty()) fs::remove(lateSource_, ec);
+    if (!source_.empty()) {
+        if (result_.ok && !result_.cached) fs::rename(source_, dir_ / (key_ + ".cpp"), ec);
+        else fs::remove(source_, ec);
+    }
+    steps_.clear();
+    objects_.clear();
+    source_.clear();
+    lateSource_.clear();
+}
+
+BuildResult PluginBuild::finish(const std::string& lateSource) {
+    if (compiling_.joinable()) compiling_.join();
+    if (done_) return result_;
+    done_ = true;
+    std::vector<Step> late;
+    if (!lateSource.empty()) {
+        lateSource_ = dir_ / (unique_ + ".device.cpp");
+        if (!writeText(lateSource_, lateSource)) {
+            result_.log = "cannot write " + lateSource_.string();
+            cleanUp();
+            return result_;
+        }
+        const size_t first = steps_.size();
+        addObject(lateSource_, {});
+        late.assign(steps_.begin() + static_cast<long>(first), steps_.end());
+        steps_.resize(first);
+        runAll(late, limits_, 1);
+        steps_.insert(steps_.end(), late.begin(), late.end());
+    }
+    bool ok = std::all_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.result.ok(); });
+    const fs::path tmp = dir_ / (unique_ + ".so");
+    if (ok && !linkedAtOnce_) {
+        std::vector<std::string> link = words(compiler_);
         for (const auto& a : {"-shared", "-pthread", "-o"}) link.push_back(a);
         link.push_back(tmp.string());
-        for (const auto& o : objects) link.push_back(o.string());
-        r.command += "\n" + commandLine(link);
-        if (options.verbose) fmt::print(stderr, "psc: {}\n", commandLine(link));
-        steps.push_back({link, (dir / (unique + ".link.log")).string(), {}});
-        steps.back().result = runChild(steps.back().argv, steps.back().log, limits);
-        ok = steps.back().result.ok();
+        for (const auto& o : objects_) link.push_back(o.string());
+        result_.command += "\n" + commandLine(link);
+        if (options_.verbose) fmt::print(stderr, "psc: {}\n", commandLine(link));
+        steps_.push_back({link, (dir_ / (unique_ + ".link.log")).string(), {}});
+        steps_.back().result = runChild(steps_.back().argv, steps_.back().log, limits_);
+        ok = steps_.back().result.ok();
     }
-    for (const auto& step : steps) {
-        if (!step.result.ok() && r.log.empty()) r.log = failureLog(step, limits);
-        if (processes > 1) r.unitSeconds.push_back(step.result.seconds);
+    for (const auto& step : steps_) {
+        if (!step.result.ok() && result_.log.empty()) result_.log = failureLog(step, limits_);
+        if (!linkedAtOnce_) result_.unitSeconds.push_back(step.result.seconds);
     }
+    std::error_code ec;
     if (ok) {
-        fs::rename(tmp, plugin, ec);
-        r.ok = !ec;
-        if (ec) r.log = "cannot move the plugin into the cache: " + ec.message();
+        fs::rename(tmp, result_.pluginPath, ec);
+        result_.ok = !ec;
+        if (ec) result_.log = "cannot move the plugin into the cache: " + ec.message();
     } else {
         fs::remove(tmp, ec);
     }
-    for (const auto& step : steps) fs::remove(step.log, ec);
-    for (const auto& o : objects) fs::remove(o, ec);
-    if (r.ok) fs::rename(src, dir / (key + ".cpp"), ec);
-    else fs::remove(src, ec);
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return r;
+    cleanUp();
+    result_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    return result_;
+}
+
+BuildResult buildCpuPlugin(const std::string& source, const BuildOptions& options) {
+    return PluginBuild(source, options).finish();
 }
 
 }  // namespace psc

@@ -4,8 +4,11 @@
 // core (the units shared out by their expected cost), then linked.
 #pragma once
 
+#include <chrono>
+#include <filesystem>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "ChildProcess.h"
@@ -29,7 +32,52 @@ struct BuildResult {
     std::string command;
     std::string log;         // the compiler's output on failure
     double seconds = 0;
-    std::vector<double> unitSeconds;  // each compile process's seconds, then the link's (several processes)
+    std::vector<double> unitSeconds;  // each compile process's seconds, then the link's (objects linked)
+};
+
+// A plugin build under way: the constructor starts compiling `source` (unless
+// the cache holds the plugin) and returns; finish() waits, compiles
+// `lateSource` (code that was not ready at the start: a plugin's device code,
+// which NVRTC makes meanwhile) as one more object, links, and caches the
+// plugin.  `extraKey` names what lateSource will hold, for the cache key.
+class PluginBuild {
+public:
+    PluginBuild(const std::string& source, const BuildOptions& options, const std::string& extraKey = "");
+    ~PluginBuild();
+    PluginBuild(const PluginBuild&) = delete;
+    PluginBuild& operator=(const PluginBuild&) = delete;
+
+    bool cached() const { return result_.cached; }
+    BuildResult finish(const std::string& lateSource = "");
+
+    struct Step {
+        std::vector<std::string> argv;
+        std::string log;
+        ChildResult result;
+    };
+
+private:
+    void fail(const std::string& why);
+    void addObject(const std::filesystem::path& source, const std::vector<std::string>& more);
+    void cleanUp();
+
+    BuildOptions options_;
+    std::chrono::steady_clock::time_point start_;
+    std::string compiler_;
+    std::string flags_;
+    std::filesystem::path dir_;
+    std::string key_;
+    std::string unique_;
+    std::filesystem::path source_;
+    std::filesystem::path lateSource_;
+    ChildLimits limits_;
+    unsigned cores_ = 1;
+    std::vector<Step> steps_;
+    std::vector<std::filesystem::path> objects_;
+    std::thread compiling_;
+    bool linkedAtOnce_ = false;  // one process, nothing to come: it makes the plugin itself
+    bool done_ = false;
+    BuildResult result_;
 };
 
 BuildResult buildCpuPlugin(const std::string& source, const BuildOptions& options);

@@ -2,8 +2,8 @@
 // Loads the game's kernels (cubin for the device's architecture, else PTX)
 // with the CUDA driver API, found at run time with dlopen so that the plugin
 // also loads on machines without a GPU, and keeps the batch in device memory.
-// Expects kCubin, kPtx/kPtxBytes/kPtxUnits (the compiled device code, PTX per
-// compile unit) and kStackBytes above.
+// Expects psc_device_cubin, psc_device_ptx (PTX per compile unit) and their
+// sizes declared above, and defined by the plugin's device code source.
 
 #include <dlfcn.h>
 
@@ -116,14 +116,15 @@ Driver& driver() {
 CUresult loadModule(CUmodule* module) {
     Driver& d = driver();
     const char* fromPtx = std::getenv("PSC_CUDA_FROM_PTX");
-    if (!(fromPtx && *fromPtx && *fromPtx != '0') && d.cuModuleLoadData(module, kCubin) == 0) return 0;
-    if (kPtxUnits == 1) return d.cuModuleLoadData(module, kPtx[0]);
+    if (!(fromPtx && *fromPtx && *fromPtx != '0') && d.cuModuleLoadData(module, psc_device_cubin) == 0) return 0;
+    if (psc_device_ptx_units == 1) return d.cuModuleLoadData(module, psc_device_ptx);
     CUlinkState link = nullptr;
     CUresult r = d.cuLinkCreate(0, nullptr, nullptr, &link);
-    for (int k = 0; r == 0 && k < kPtxUnits; ++k) {
+    const unsigned char* ptx = psc_device_ptx;
+    for (int k = 0; r == 0 && k < psc_device_ptx_units; ptx += psc_device_ptx_bytes[k] + 1, ++k) {
         const std::string name = "unit" + std::to_string(k) + ".ptx";
-        r = d.cuLinkAddData(link, kJitInputPtx, const_cast<unsigned char*>(kPtx[k]), kPtxBytes[k] + 1, name.c_str(), 0,
-                            nullptr, nullptr);
+        r = d.cuLinkAddData(link, kJitInputPtx, const_cast<unsigned char*>(ptx), psc_device_ptx_bytes[k] + 1, name.c_str(),
+                            0, nullptr, nullptr);
     }
     void* image = nullptr;
     size_t size = 0;

@@ -41,9 +41,9 @@ static int psc_cuda_batch_create(const psc_batch_options* options, psc_batch** o
     constexpr int kStackLimit = 0;  // CU_LIMIT_STACK_SIZE
     size_t stack = 0;
     if (int s = check(d.cuCtxGetLimit(&stack, kStackLimit), "reading the stack limit")) return cleanup(s);
-    if (stack < kStackBytes) {
-        const std::string what = "raising the stack limit to " + std::to_string(kStackBytes) + " bytes a thread";
-        if (int s = check(d.cuCtxSetLimit(kStackLimit, kStackBytes), what.c_str())) return cleanup(s);
+    if (stack < psc_device_stack_bytes) {
+        const std::string what = "raising the stack limit to " + std::to_string(psc_device_stack_bytes) + " bytes a thread";
+        if (int s = check(d.cuCtxSetLimit(kStackLimit, psc_device_stack_bytes), what.c_str())) return cleanup(s);
     }
     const CUresult loaded = loadModule(&cb->module);
     if (int s = check(loaded, "loading the game's kernels")) {

@@ -34,10 +34,10 @@ def main():
             with open(path, "w") as f:
                 f.write(text)
             # trains-love-snowmen's 63 MB source alone keeps NVRTC's front end busy 5 to 7 minutes on two
-            # cores, over psc's default compile time limit (300 s); the bounds are there to catch a hang, not
-            # to time the largest game.
-            r = subprocess.run([a.psc, "check", path, "--cuda"], capture_output=True, text=True, timeout=900,
-                               env=dict(os.environ, PSC_COMPILE_TIMEOUT="850"))
+            # idle cores (over 14 on a loaded machine), past psc's default compile time limit (300 s); the
+            # bounds are there to catch a hang, not to time the largest game.
+            r = subprocess.run([a.psc, "check", path, "--cuda"], capture_output=True, text=True, timeout=1800,
+                               env=dict(os.environ, PSC_COMPILE_TIMEOUT="1700"))
             return key, r.returncode, r.stderr
 
         compiled = has_errors = 0
