@@ -83,13 +83,13 @@ std::string commandLine(const std::vector<std::string>& argv) {
 // unit k), each unit to the least loaded: a rule unit holds about 16 kB of
 // rule code; unit 0, the host side and the turn, costs about as much as
 // five of them (atlas, the development machine: 5.6 s against about 1 s).
-std::vector<unsigned> shareOut(int units, int processes) {
+std::vector<uint64_t> shareOut(int units, int processes) {
     constexpr int kUnitZeroCost = 5;
-    std::vector<unsigned> masks(static_cast<size_t>(processes), 0);
+    std::vector<uint64_t> masks(static_cast<size_t>(processes), 0);
     std::vector<int> load(static_cast<size_t>(processes), 0);
     for (int k = 0; k < units; ++k) {
         const size_t least = static_cast<size_t>(std::min_element(load.begin(), load.end()) - load.begin());
-        masks[least] |= 1u << k;
+        masks[least] |= uint64_t{1} << k;
         load[least] += k == 0 ? kUnitZeroCost : 1;
     }
     return masks;
@@ -157,10 +157,10 @@ PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options,
         if (options_.verbose) fmt::print(stderr, "psc: {}\n", result_.command);
         linkedAtOnce_ = true;
     }
-    const std::vector<unsigned> masks = processes == 1 ? std::vector<unsigned>{0u} : shareOut(units, processes);
-    for (const unsigned mask : linkedAtOnce_ ? std::vector<unsigned>{} : masks) {
+    const std::vector<uint64_t> masks = processes == 1 ? std::vector<uint64_t>{0} : shareOut(units, processes);
+    for (const uint64_t mask : linkedAtOnce_ ? std::vector<uint64_t>{} : masks) {
         std::vector<std::string> more;
-        if (processes > 1) more.push_back(fmt::format("-DPSC_UNIT_MASK={}u", mask));
+        if (processes > 1) more.push_back(fmt::format("-DPSC_UNIT_MASK={}ull", mask));
         addObject(source_, more);
     }
     compiling_ = std::thread([this] { runAll(steps_, limits_, cores_); });
