@@ -85,11 +85,12 @@ std::string deviceCodeKey(const std::string& cudaSource, const GameBuildOptions&
                                cudaSource));
 }
 
-std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const std::string& text,
-                                                   const std::string& path, const GameBuildOptions& options,
-                                                   codegen::DeviceCodeFiles* files) {
-    const codegen::SourceOptions so = sourceOptions(text, path, options);
-    const std::string source = codegen::cudaSource(game, so);
+namespace {
+
+// compileDeviceCode for a cudaSource already made.
+std::optional<CudaCompileResult> compileDeviceSource(const std::string& source, const std::string& text,
+                                                     const std::string& path, const GameBuildOptions& options,
+                                                     codegen::DeviceCodeFiles* files) {
     const std::string key = deviceCodeKey(source, options);
     const fs::path dir = options.build.cacheDir.empty() ? defaultCacheDir() : options.build.cacheDir;
     const fs::path cubinPath = dir / (key + ".cubin");
@@ -147,6 +148,14 @@ std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const s
     return r;
 }
 
+}  // namespace
+
+std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const std::string& text,
+                                                   const std::string& path, const GameBuildOptions& options,
+                                                   codegen::DeviceCodeFiles* files) {
+    return compileDeviceSource(codegen::cudaSource(game, sourceOptions(text, path, options)), text, path, options, files);
+}
+
 std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text, const std::string& path,
                                    const GameBuildOptions& options, std::string* pluginPath) {
     const codegen::SourceOptions so = sourceOptions(text, path, options);
@@ -157,10 +166,10 @@ std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text
         built = buildCpuPlugin(codegen::cpuPluginSource(game, so), build);
     } else {
         // The host side compiles while NVRTC does; the device code joins it at the link.
-        PluginBuild host(codegen::cudaPluginSource(game, so), build,
-                         deviceCodeKey(codegen::cudaSource(game, so), options));
+        const std::string deviceSource = codegen::cudaSource(game, so);
+        PluginBuild host(codegen::cudaPluginSource(game, so), build, deviceCodeKey(deviceSource, options));
         codegen::DeviceCodeFiles files;
-        if (!host.cached() && !compileDeviceCode(game, text, path, options, &files)) return nullptr;
+        if (!host.cached() && !compileDeviceSource(deviceSource, text, path, options, &files)) return nullptr;
         built = host.cached() ? host.finish() : host.finish(codegen::deviceCodeSource(files));
     }
     if (!built.ok) {

@@ -35,10 +35,10 @@ std::optional<ir::Game> compileForBuild(const std::string& text, const std::stri
 // null on failure (reported on stderr).
 std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text, const std::string& path,
                                    const GameBuildOptions& options, std::string* pluginPath = nullptr);
-// The game's device code compiled for CUDA (cached); nothing on failure
-// (reported on stderr).  `files` receives where the cache keeps it.
 // The cache key of a game's compiled device code (cudaSource and the CUDA options).
 std::string deviceCodeKey(const std::string& cudaSource, const GameBuildOptions& options);
+// The game's device code compiled for CUDA (cached); nothing on failure
+// (reported on stderr).  `files` receives where the cache keeps it.
 std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const std::string& text,
                                                    const std::string& path, const GameBuildOptions& options,
                                                    codegen::DeviceCodeFiles* files = nullptr);

@@ -147,21 +147,12 @@ PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options,
     const int processes = static_cast<int>(std::min<unsigned>(cores_, static_cast<unsigned>(units)));
     if (processes == 1 && extraKey.empty()) {
         // Compiled and linked at once.
-        std::vector<std::string> argv = words(compiler_);
-        for (const auto& f : words(flags_)) argv.push_back(f);
-        for (const auto& a : {std::string("-shared"), std::string("-o"), (dir_ / (unique_ + ".so")).string(), source_.string()}) {
-            argv.push_back(a);
-        }
-        steps_.push_back({argv, (dir_ / (unique_ + ".log")).string(), {}});
-        result_.command = commandLine(argv);
-        if (options_.verbose) fmt::print(stderr, "psc: {}\n", result_.command);
+        addStep(compileCommand({"-shared", "-o", (dir_ / (unique_ + ".so")).string(), source_.string()}));
         linkedAtOnce_ = true;
-    }
-    const std::vector<uint64_t> masks = processes == 1 ? std::vector<uint64_t>{0} : shareOut(units, processes);
-    for (const uint64_t mask : linkedAtOnce_ ? std::vector<uint64_t>{} : masks) {
-        std::vector<std::string> more;
-        if (processes > 1) more.push_back(fmt::format("-DPSC_UNIT_MASK={}ull", mask));
-        addObject(source_, more);
+    } else if (processes == 1) {
+        addObject(source_, {});
+    } else {
+        for (const uint64_t mask : shareOut(units, processes)) addObject(source_, {fmt::format("-DPSC_UNIT_MASK={}ull", mask)});
     }
     compiling_ = std::thread([this] { runAll(steps_, limits_, cores_); });
 }
@@ -176,15 +167,23 @@ void PluginBuild::fail(const std::string& why) {
     done_ = true;
 }
 
-void PluginBuild::addObject(const fs::path& source, const std::vector<std::string>& more) {
+std::vector<std::string> PluginBuild::compileCommand(const std::vector<std::string>& arguments) const {
     std::vector<std::string> argv = words(compiler_);
     for (const auto& f : words(flags_)) argv.push_back(f);
-    for (const auto& a : more) argv.push_back(a);
-    objects_.push_back(dir_ / fmt::format("{}.{}.o", unique_, objects_.size()));
-    for (const auto& a : {std::string("-c"), std::string("-o"), objects_.back().string(), source.string()}) argv.push_back(a);
-    steps_.push_back({argv, (dir_ / fmt::format("{}.{}.log", unique_, steps_.size())).string(), {}});
+    argv.insert(argv.end(), arguments.begin(), arguments.end());
+    return argv;
+}
+
+void PluginBuild::addStep(std::vector<std::string> argv) {
     result_.command += (result_.command.empty() ? "" : "\n") + commandLine(argv);
     if (options_.verbose) fmt::print(stderr, "psc: {}\n", commandLine(argv));
+    steps_.push_back({std::move(argv), (dir_ / fmt::format("{}.{}.log", unique_, steps_.size())).string(), {}});
+}
+
+void PluginBuild::addObject(const fs::path& source, std::vector<std::string> arguments) {
+    objects_.push_back(dir_ / fmt::format("{}.{}.o", unique_, objects_.size()));
+    for (const auto& a : {std::string("-c"), std::string("-o"), objects_.back().string(), source.string()}) arguments.push_back(a);
+    addStep(compileCommand(arguments));
 }
 
 void PluginBuild::cleanUp() {
@@ -206,7 +205,7 @@ BuildResult PluginBuild::finish(const std::string& lateSource) {
     if (compiling_.joinable()) compiling_.join();
     if (done_) return result_;
     done_ = true;
-    std::vector<Step> late;
+    auto runLast = [&] { steps_.back().result = runChild(steps_.back().argv, steps_.back().log, limits_); };
     if (!lateSource.empty()) {
         lateSource_ = dir_ / (unique_ + ".device.cpp");
         if (!writeText(lateSource_, lateSource)) {
@@ -214,12 +213,8 @@ BuildResult PluginBuild::finish(const std::string& lateSource) {
             cleanUp();
             return result_;
         }
-        const size_t first = steps_.size();
         addObject(lateSource_, {});
-        late.assign(steps_.begin() + static_cast<long>(first), steps_.end());
-        steps_.resize(first);
-        runAll(late, limits_, 1);
-        steps_.insert(steps_.end(), late.begin(), late.end());
+        runLast();
     }
     bool ok = std::all_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.result.ok(); });
     const fs::path tmp = dir_ / (unique_ + ".so");
@@ -228,10 +223,8 @@ BuildResult PluginBuild::finish(const std::string& lateSource) {
         for (const auto& a : {"-shared", "-pthread", "-o"}) link.push_back(a);
         link.push_back(tmp.string());
         for (const auto& o : objects_) link.push_back(o.string());
-        result_.command += "\n" + commandLine(link);
-        if (options_.verbose) fmt::print(stderr, "psc: {}\n", commandLine(link));
-        steps_.push_back({link, (dir_ / (unique_ + ".link.log")).string(), {}});
-        steps_.back().result = runChild(steps_.back().argv, steps_.back().log, limits_);
+        addStep(std::move(link));
+        runLast();
         ok = steps_.back().result.ok();
     }
     for (const auto& step : steps_) {

@@ -58,7 +58,9 @@ public:
 
 private:
     void fail(const std::string& why);
-    void addObject(const std::filesystem::path& source, const std::vector<std::string>& more);
+    std::vector<std::string> compileCommand(const std::vector<std::string>& arguments) const;
+    void addStep(std::vector<std::string> argv);
+    void addObject(const std::filesystem::path& source, std::vector<std::string> arguments);
     void cleanUp();
 
     BuildOptions options_;

@@ -29,8 +29,9 @@
 // PSC_COMPILE_UNITS programs at once, each with PSC_UNIT set, as relocatable
 // code then linked (runtime/CudaCompiler.cpp); the system compiler compiles
 // a large game's plugin likewise, as objects of some units each (the bits of
-// PSC_UNIT_MASK) at once, one per core (runtime/PluginBuilder.cpp).  Unit 0 defines the kernels, the turn and the
-// plugin's host side, unit k > 0 some of the rules and groups
+// PSC_UNIT_MASK) at once, one per core (runtime/PluginBuilder.cpp).  Unit 0
+// defines the kernels, the turn and the plugin's host side, unit k > 0 some
+// of the rules and groups
 // (PSC_COMPILES_UNIT(k)), which are the only functions one unit calls in
 // another (PSC_RULE).  Every other function is inline: a unit compiles only
 // those it uses, and copies in several units link as one.  Compiled as one
