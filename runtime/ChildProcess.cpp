@@ -16,6 +16,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <utility>
+
 namespace psc {
 namespace {
 
@@ -116,17 +118,20 @@ bool waitReadable(int fd, double wallSeconds, std::chrono::steady_clock::time_po
     }
 }
 
-ChildResult runChild(const std::vector<std::string>& argv, const std::string& logPath, const ChildLimits& limits) {
-    ChildResult r;
-    const auto start = std::chrono::steady_clock::now();
+RunningChild startChild(const std::vector<std::string>& argv, const std::string& logPath, const ChildLimits& limits) {
+    RunningChild c;
+    c.start_ = std::chrono::steady_clock::now();
+    c.wallSeconds_ = limits.wallSeconds;
+    ChildResult& r = c.result_;
     if (argv.empty()) {
         r.error = "no program to run";
-        return r;
+        return c;
     }
-    const std::string path = findProgram(argv[0]);
-    if (path.empty()) {
+    c.program_ = argv[0];
+    c.path_ = findProgram(argv[0]);
+    if (c.path_.empty()) {
         r.error = fmt::format("cannot find the program {}", argv[0]);
-        return r;
+        return c;
     }
     std::vector<char*> args;
     for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
@@ -134,60 +139,102 @@ ChildResult runChild(const std::vector<std::string>& argv, const std::string& lo
     const int logFd = open(logPath.empty() ? "/dev/null" : logPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (logFd < 0) {
         r.error = fmt::format("cannot write {}: {}", logPath, std::strerror(errno));
-        return r;
+        return c;
     }
     int statusPipe[2];
     if (pipe2(statusPipe, O_CLOEXEC) != 0) {
         close(logFd);
         r.error = fmt::format("cannot create a pipe: {}", std::strerror(errno));
-        return r;
+        return c;
     }
     const pid_t parent = getpid();
     const pid_t supervisor = fork();
-    if (supervisor == 0) superviseChild(parent, path.c_str(), args.data(), logFd, statusPipe[1], limits);
+    if (supervisor == 0) superviseChild(parent, c.path_.c_str(), args.data(), logFd, statusPipe[1], limits);
     close(statusPipe[1]);
     close(logFd);
     if (supervisor < 0) {
         close(statusPipe[0]);
         r.error = fmt::format("cannot start {}: {}", argv[0], std::strerror(errno));
-        return r;
+        return c;
     }
     // Both sides set the group, so that a kill at the deadline reaches it
     // even when the supervisor has not run yet.
     setpgid(supervisor, supervisor);
     r.started = true;
+    c.supervisor_ = supervisor;
+    c.statusFd_ = statusPipe[0];
+    return c;
+}
+
+RunningChild::RunningChild(RunningChild&& other) noexcept { *this = std::move(other); }
+
+RunningChild& RunningChild::operator=(RunningChild&& other) noexcept {
+    if (this != &other) {
+        stop();
+        result_ = std::move(other.result_);
+        program_ = std::move(other.program_);
+        path_ = std::move(other.path_);
+        start_ = other.start_;
+        wallSeconds_ = other.wallSeconds_;
+        supervisor_ = std::exchange(other.supervisor_, -1);
+        statusFd_ = std::exchange(other.statusFd_, -1);
+    }
+    return *this;
+}
+
+RunningChild::~RunningChild() { stop(); }
+
+void RunningChild::stop() {
+    if (supervisor_ <= 0) return;
+    kill(-supervisor_, SIGKILL);
+    close(statusFd_);
+    while (waitpid(supervisor_, nullptr, 0) < 0 && errno == EINTR) {
+    }
+    supervisor_ = -1;
+    statusFd_ = -1;
+}
+
+ChildResult RunningChild::wait() {
+    if (supervisor_ <= 0) return result_;
+    ChildResult& r = result_;
     int status = 0;
     size_t got = 0;
     for (;;) {
-        if (!waitReadable(statusPipe[0], limits.wallSeconds, start)) {
+        if (!waitReadable(statusFd_, wallSeconds_, start_)) {
             r.timedOut = true;
             break;
         }
-        const ssize_t n = read(statusPipe[0], reinterpret_cast<char*>(&status) + got, sizeof status - got);
+        const ssize_t n = read(statusFd_, reinterpret_cast<char*>(&status) + got, sizeof status - got);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) break;  // the supervisor died without a report
         got += static_cast<size_t>(n);
         if (got == sizeof status) break;
     }
-    close(statusPipe[0]);
-    if (r.timedOut || got != sizeof status) kill(-supervisor, SIGKILL);
+    close(statusFd_);
+    statusFd_ = -1;
+    if (r.timedOut || got != sizeof status) kill(-supervisor_, SIGKILL);
     int supervisorStatus = 0;
-    while (waitpid(supervisor, &supervisorStatus, 0) < 0 && errno == EINTR) {
+    while (waitpid(supervisor_, &supervisorStatus, 0) < 0 && errno == EINTR) {
     }
-    r.seconds = secondsSince(start);
+    supervisor_ = -1;
+    r.seconds = secondsSince(start_);
     if (r.timedOut) return r;
     if (got != sizeof status || status == -1) {
-        r.error = fmt::format("{} ended without a status", argv[0]);
+        r.error = fmt::format("{} ended without a status", program_);
         r.signal = WIFSIGNALED(supervisorStatus) ? WTERMSIG(supervisorStatus) : 0;
         return r;
     }
     if (WIFEXITED(status)) {
         r.exitCode = WEXITSTATUS(status);
-        if (r.exitCode == 127) r.error = fmt::format("cannot run {}", path);
+        if (r.exitCode == 127) r.error = fmt::format("cannot run {}", path_);
     } else if (WIFSIGNALED(status)) {
         r.signal = WTERMSIG(status);
     }
     return r;
+}
+
+ChildResult runChild(const std::vector<std::string>& argv, const std::string& logPath, const ChildLimits& limits) {
+    return startChild(argv, logPath, limits).wait();
 }
 
 ChildResult runForked(const std::function<std::string()>& work, std::string* output, double wallSeconds) {
@@ -213,8 +260,8 @@ ChildResult runForked(const std::function<std::string()>& work, std::string* out
         } catch (...) {
             _exit(3);
         }
-        // Its length first: the pipe may stay open in processes that other
-        // threads of psc fork meanwhile, so its end is no sign of completion.
+        // Its length first, so that a result cut short is never taken
+        // for a whole one.
         const uint64_t size = out.size();
         _exit(writeAll(pipeFds[1], &size, sizeof size) && writeAll(pipeFds[1], out.data(), out.size()) ? 0 : 2);
     }

@@ -9,6 +9,7 @@
 // group: the compiler driver and what it started (cc1plus, as, ptxas).
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <string>
 #include <vector>
@@ -31,8 +32,38 @@ struct ChildResult {
     bool ok() const { return started && !timedOut && signal == 0 && exitCode == 0; }
 };
 
-// Runs argv[0] (searched in PATH when it has no '/') with argv, its stdout and
-// stderr written to `logPath` (empty: /dev/null), and waits for it.
+// A child started by startChild.  wait() waits for it (at most until its
+// wall-clock limit, counted from its start) and says how it ended; a child
+// destroyed without wait() is killed with its group.
+class RunningChild {
+public:
+    RunningChild() = default;
+    RunningChild(RunningChild&& other) noexcept;
+    RunningChild& operator=(RunningChild&& other) noexcept;
+    ~RunningChild();
+
+    ChildResult wait();
+
+private:
+    friend RunningChild startChild(const std::vector<std::string>&, const std::string&, const ChildLimits&);
+    void stop();
+
+    ChildResult result_;
+    std::string program_;
+    std::string path_;
+    std::chrono::steady_clock::time_point start_;
+    double wallSeconds_ = 0;
+    int supervisor_ = -1;
+    int statusFd_ = -1;
+};
+
+// Starts argv[0] (searched in PATH when it has no '/') with argv, its stdout
+// and stderr written to `logPath` (empty: /dev/null), and returns at once.
+// Safe while psc runs other threads: the forked copy only calls exec's
+// async-signal-safe preparations.
+RunningChild startChild(const std::vector<std::string>& argv, const std::string& logPath, const ChildLimits& limits);
+
+// startChild, then wait.
 ChildResult runChild(const std::vector<std::string>& argv, const std::string& logPath, const ChildLimits& limits);
 
 // Runs `work` in a forked copy of psc, for a compiler that runs inside psc

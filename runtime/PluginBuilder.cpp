@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -95,18 +94,6 @@ std::vector<uint64_t> shareOut(int units, int processes) {
     return masks;
 }
 
-// Runs the steps, at most `parallel` at a time.
-void runAll(std::vector<Step>& steps, const ChildLimits& limits, unsigned parallel) {
-    std::atomic<size_t> next{0};
-    auto worker = [&] {
-        for (size_t i; (i = next++) < steps.size();) steps[i].result = runChild(steps[i].argv, steps[i].log, limits);
-    };
-    std::vector<std::thread> threads;
-    for (unsigned t = 1; t < std::min<size_t>(parallel, steps.size()); ++t) threads.emplace_back(worker);
-    worker();
-    for (auto& t : threads) t.join();
-}
-
 }  // namespace
 
 PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options, const std::string& extraKey)
@@ -140,11 +127,11 @@ PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options,
     limits_ = options.limits ? *options.limits : defaultCompileLimits();
     // One process per core, or $PSC_COMPILE_JOBS: the units shared out by
     // expected cost, all compiled at once, then linked.
-    cores_ = std::max(1u, std::thread::hardware_concurrency());
+    unsigned cores = std::max(1u, std::thread::hardware_concurrency());
     if (const char* jobs = std::getenv("PSC_COMPILE_JOBS"); jobs && std::atoi(jobs) > 0) {
-        cores_ = static_cast<unsigned>(std::atoi(jobs));
+        cores = static_cast<unsigned>(std::atoi(jobs));
     }
-    const int processes = static_cast<int>(std::min<unsigned>(cores_, static_cast<unsigned>(units)));
+    const int processes = static_cast<int>(std::min<unsigned>(cores, static_cast<unsigned>(units)));
     if (processes == 1 && extraKey.empty()) {
         // Compiled and linked at once.
         addStep(compileCommand({"-shared", "-o", (dir_ / (unique_ + ".so")).string(), source_.string()}));
@@ -154,11 +141,14 @@ PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options,
     } else {
         for (const uint64_t mask : shareOut(units, processes)) addObject(source_, {fmt::format("-DPSC_UNIT_MASK={}ull", mask)});
     }
-    compiling_ = std::thread([this] { runAll(steps_, limits_, cores_); });
+    // Started from this thread, not a helper one: NVRTC's forked copy of psc
+    // (runForked) may start next, and a copy made while another thread ran
+    // could inherit a lock that thread held (a sanitizer's allocator's).
+    for (auto& step : steps_) step.running = startChild(step.argv, step.log, limits_);
 }
 
 PluginBuild::~PluginBuild() {
-    if (compiling_.joinable()) compiling_.join();
+    for (auto& step : steps_) step.running = RunningChild();
     cleanUp();
 }
 
@@ -177,7 +167,7 @@ std::vector<std::string> PluginBuild::compileCommand(const std::vector<std::stri
 void PluginBuild::addStep(std::vector<std::string> argv) {
     result_.command += (result_.command.empty() ? "" : "\n") + commandLine(argv);
     if (options_.verbose) fmt::print(stderr, "psc: {}\n", commandLine(argv));
-    steps_.push_back({std::move(argv), (dir_ / fmt::format("{}.{}.log", unique_, steps_.size())).string(), {}});
+    steps_.push_back({std::move(argv), (dir_ / fmt::format("{}.{}.log", unique_, steps_.size())).string(), {}, {}});
 }
 
 void PluginBuild::addObject(const fs::path& source, std::vector<std::string> arguments) {
@@ -202,9 +192,9 @@ void PluginBuild::cleanUp() {
 }
 
 BuildResult PluginBuild::finish(const std::string& lateSource) {
-    if (compiling_.joinable()) compiling_.join();
     if (done_) return result_;
     done_ = true;
+    for (auto& step : steps_) step.result = step.running.wait();
     auto runLast = [&] { steps_.back().result = runChild(steps_.back().argv, steps_.back().log, limits_); };
     if (!lateSource.empty()) {
         lateSource_ = dir_ / (unique_ + ".device.cpp");

@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "ChildProcess.h"
@@ -53,6 +52,7 @@ public:
     struct Step {
         std::vector<std::string> argv;
         std::string log;
+        RunningChild running;
         ChildResult result;
     };
 
@@ -73,10 +73,8 @@ private:
     std::filesystem::path source_;
     std::filesystem::path lateSource_;
     ChildLimits limits_;
-    unsigned cores_ = 1;
     std::vector<Step> steps_;
     std::vector<std::filesystem::path> objects_;
-    std::thread compiling_;
     bool linkedAtOnce_ = false;  // one process, nothing to come: it makes the plugin itself
     bool done_ = false;
     BuildResult result_;

@@ -66,10 +66,25 @@ def replay(psc, corpus, entry, extra, dumps, timeout):
     return entry, code, out, time.time() - start, file_sha1(dump) if dump else None
 
 
-def write_report(a, results):
+def provenance(a):
+    """What produced a report: the command, psc's commit, the machine and the day."""
+    commit = subprocess.run(["git", "describe", "--always", "--dirty"], capture_output=True, text=True).stdout.strip()
+    if not commit and os.path.exists("device/COMMIT"):  # a device machine's copy has no .git (tools/device_bundle.sh)
+        commit = open("device/COMMIT").read().strip()
+    cpu = next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")), "?")
+    machine = f"{cpu}, {os.cpu_count()} cores"
+    if a.backend == "cuda":
+        gpu = subprocess.run(["nvidia-smi", "--query-gpu=name", "--format=csv,noheader"], capture_output=True, text=True).stdout
+        machine = f"{gpu.splitlines()[0].strip() if gpu.strip() else 'unknown GPU'}; {machine}"
+    return {"command": "tools/corpus_replay.py " + " ".join(sys.argv[1:]), "commit": commit or "unknown",
+            "machine": machine, "date": time.strftime("%Y-%m-%d")}
+
+
+def write_report(a, results, meta):
     passed = sum(r["status"] == "pass" for r in results)
     with open(a.json, "w") as f:
-        json.dump({"suite": a.suite, "backend": a.backend, "passed": passed, "total": len(results), "cases": results}, f, indent=1)
+        json.dump({"suite": a.suite, "backend": a.backend, "passed": passed, "total": len(results), **meta,
+                   "cases": results}, f, indent=1)
 
 
 def main():
@@ -113,6 +128,7 @@ def main():
         (["--check-keys"] if a.check_keys else [])
     if a.dumps:
         os.makedirs(a.dumps, exist_ok=True)
+    meta = provenance(a) if a.json else {}
     results = []
     retry = []
     reported = time.time()
@@ -125,7 +141,7 @@ def main():
             first = [line for line in out.strip().splitlines() if "warning:" not in line and not line.startswith("psc: ")][:3]
             print(f"FAIL {entry['id']}: " + " | ".join(first)[:300], flush=True)
         if a.json and time.time() - reported > 5:
-            write_report(a, results)  # partial results survive a run cut short
+            write_report(a, results, meta)  # partial results survive a run cut short
             reported = time.time()
 
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
@@ -145,7 +161,7 @@ def main():
     pct = 100.0 * passed / len(results) if results else 100.0
     print(f"{a.suite}: {passed}/{len(results)} passed ({pct:.2f}%)")
     if a.json:
-        write_report(a, results)
+        write_report(a, results, meta)
     sys.exit(0 if pct >= a.min else 1)
 
 

@@ -13,6 +13,7 @@ sample=${1:-400}
 corpus=../shared/corpus
 rm -rf device && mkdir -p device/lib
 cmake --install build --prefix device --strip > /dev/null
+git describe --always --dirty > device/COMMIT
 for lib in libantlr4-runtime.so.4.9 libfmt.so.9; do cp "$(ldconfig -p | awk -v l=$lib '$1 == l {print $NF; exit}')" device/lib/; done
 stage=$(mktemp -d)
 /usr/bin/python3 - "$corpus" "$stage" "$sample" <<'PY'

@@ -5,8 +5,8 @@
 #             GPU state layout in LAYOUTS (default auto)
 #   prebuild  the benchmark games' CUDA plugins built in parallel (bench then finds them cached)
 #   bench     psc bench --backend cuda, batch sweep, for each benchmark game
-#   replay    every carried corpus trace replayed on the GPU, states dumped
-#             (compare with the CPU: tools/compare_dumps.py)
+#   replay    every carried corpus trace replayed on each of REPLAY_BACKENDS (default cuda; "cpu cuda" for
+#             both), states dumped (compare backends: tools/compare_dumps.py); reports for tools/fidelity_report.py
 #   sanitize  compute-sanitizer memcheck on a sample of replays and a rollout
 #   fromptx   kernels loaded from PTX (PSC_CUDA_FROM_PTX=1, the other-GPU path,
 #             compile units linked by the driver): a rollout and a few replays
@@ -97,10 +97,12 @@ for stage in "$@"; do
         done
         ;;
     replay)
-        for suite in ${REPLAY_SUITES:-testsuite scraped}; do
-            timeout "${REPLAY_SECONDS:-3000}" $python tools/corpus_replay.py --psc "$psc" --corpus $corpus --suite $suite --backend cuda "${fast[@]}" "${state[@]}" \
-                --jobs "${REPLAY_JOBS:-$jobs}" --timeout "${REPLAY_CASE_SECONDS:-300}" --dumps /tmp/psc-dumps/$suite --json "$out/${suite}_cuda.json" ${REPLAY_IDS:+--ids-file "$REPLAY_IDS"} \
-                ${REPLAY_VERBOSE:+--verbose} | tail -5
+        for backend in ${REPLAY_BACKENDS:-cuda}; do
+            for suite in ${REPLAY_SUITES:-testsuite scraped}; do
+                timeout "${REPLAY_SECONDS:-3000}" $python tools/corpus_replay.py --psc "$psc" --corpus $corpus --suite $suite --backend $backend "${fast[@]}" "${state[@]}" \
+                    --jobs "${REPLAY_JOBS:-$jobs}" --timeout "${REPLAY_CASE_SECONDS:-300}" --dumps /tmp/psc-dumps/$backend/$suite --json "$out/${suite}_$backend.json" ${REPLAY_IDS:+--ids-file "$REPLAY_IDS"} \
+                    ${REPLAY_VERBOSE:+--verbose} | tail -5
+            done
         done
         ;;
     sanitize)
