@@ -68,9 +68,12 @@ def replay(psc, corpus, entry, extra, dumps, timeout):
 
 def provenance(a):
     """What produced a report: the command, psc's commit, the machine and the day."""
-    commit = subprocess.run(["git", "describe", "--always", "--dirty"], capture_output=True, text=True).stdout.strip()
-    if not commit and os.path.exists("device/COMMIT"):  # a device machine's copy has no .git (tools/device_bundle.sh)
-        commit = open("device/COMMIT").read().strip()
+    # An installed psc of tools/device_bundle.sh names its commit beside it.
+    stamp = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(a.psc))), "COMMIT")
+    if os.path.exists(stamp):
+        commit = open(stamp).read().strip()
+    else:
+        commit = subprocess.run(["git", "describe", "--always", "--dirty"], capture_output=True, text=True).stdout.strip()
     cpu = next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")), "?")
     machine = f"{cpu}, {os.cpu_count()} cores"
     if a.backend == "cuda":
