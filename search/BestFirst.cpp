@@ -44,11 +44,7 @@ SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight) {
     open.push(Open{hWeight * rootEstimate, rootEstimate, root});
 
     std::vector<uint32_t> taken;
-    std::vector<uint64_t> keys(batch * words);
-    std::vector<uint64_t> children(batch * inputs * words);
-    std::vector<uint8_t> flags(batch * inputs);
-    std::vector<uint64_t> hashes(batch * inputs);
-    std::vector<int32_t> estimates(batch * inputs);
+    ExpandBuffers b;
     std::vector<uint32_t> fresh;
     std::vector<int32_t> freshEstimates;
     int deepest = 0;
@@ -59,28 +55,29 @@ SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight) {
             taken.push_back(open.top().state);
             open.pop();
         }
+        b.fit(taken.size(), words, inputs, true);
         for (size_t i = 0; i < taken.size(); ++i) {
             const uint64_t* key = run.store.key(taken[i]);
-            std::copy(key, key + words, keys.begin() + static_cast<std::ptrdiff_t>(i * words));
+            std::copy(key, key + words, b.keys.begin() + static_cast<std::ptrdiff_t>(i * words));
             deepest = std::max(deepest, static_cast<int>(run.store.depth(taken[i])));
         }
-        space.expand(keys.data(), taken.size(), children.data(), flags.data(), hashes.data(), estimates.data());
+        space.expand(b.keys.data(), taken.size(), b.children.data(), b.flags.data(), b.hashes.data(), b.estimates.data());
         run.result.expanded += taken.size();
         run.result.generated += taken.size() * inputs;
         fresh.clear();
         freshEstimates.clear();
         for (size_t c = 0; c < taken.size() * inputs; ++c) {
-            if (flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");
+            if (b.flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");
             const uint32_t parent = taken[c / inputs];
-            if (flags[c] & PSC_EXPAND_WON) return run.solved(parent, static_cast<int>(c % inputs));
-            if (flags[c] & PSC_EXPAND_UNCHANGED) continue;
+            if (b.flags[c] & PSC_EXPAND_WON) return run.solved(parent, static_cast<int>(c % inputs));
+            if (b.flags[c] & PSC_EXPAND_UNCHANGED) continue;
             uint32_t child = 0;
-            const StateStore::Insert r = run.add(&children[c * words], hashes[c], parent, static_cast<uint8_t>(c % inputs),
+            const StateStore::Insert r = run.add(&b.children[c * words], b.hashes[c], parent, static_cast<uint8_t>(c % inputs),
                                                  run.store.depth(parent) + 1, &child);
             if (r == StateStore::Insert::Full) return run.finish(Status::Limit);
             if (r == StateStore::Insert::Known) continue;
             fresh.push_back(child);
-            freshEstimates.push_back(estimates[c]);
+            freshEstimates.push_back(b.estimates[c]);
         }
         for (size_t i = 0; i < fresh.size(); ++i) {
             open.push(Open{gWeight * run.store.depth(fresh[i]) + hWeight * freshEstimates[i], freshEstimates[i], fresh[i]});

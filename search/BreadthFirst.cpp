@@ -19,28 +19,26 @@ SolveResult breadthFirst(SearchRun& run) {
 
     std::vector<uint32_t> layer = {root};
     std::vector<uint32_t> next;
-    std::vector<uint64_t> keys(space.maxBatch() * words);
-    std::vector<uint64_t> children(space.maxBatch() * inputs * words);
-    std::vector<uint8_t> flags(space.maxBatch() * inputs);
-    std::vector<uint64_t> hashes(space.maxBatch() * inputs);
+    ExpandBuffers b;
     for (uint32_t depth = 0; !layer.empty(); ++depth) {
         next.clear();
         for (size_t begin = 0; begin < layer.size(); begin += space.maxBatch()) {
             if (run.stopped()) return run.finish(Status::Limit);
             const size_t count = std::min(space.maxBatch(), layer.size() - begin);
+            b.fit(count, words, inputs, false);
             for (size_t i = 0; i < count; ++i) {
                 const uint64_t* key = run.store.key(layer[begin + i]);
-                std::copy(key, key + words, keys.begin() + static_cast<std::ptrdiff_t>(i * words));
+                std::copy(key, key + words, b.keys.begin() + static_cast<std::ptrdiff_t>(i * words));
             }
-            space.expand(keys.data(), count, children.data(), flags.data(), hashes.data());
+            space.expand(b.keys.data(), count, b.children.data(), b.flags.data(), b.hashes.data());
             run.result.expanded += count;
             run.result.generated += count * inputs;
             for (size_t c = 0; c < count * inputs; ++c) {
-                if (flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");
-                if (flags[c] & PSC_EXPAND_WON) return run.solved(layer[begin + c / inputs], static_cast<int>(c % inputs));
-                if (flags[c] & PSC_EXPAND_UNCHANGED) continue;
+                if (b.flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");
+                if (b.flags[c] & PSC_EXPAND_WON) return run.solved(layer[begin + c / inputs], static_cast<int>(c % inputs));
+                if (b.flags[c] & PSC_EXPAND_UNCHANGED) continue;
                 uint32_t child = 0;
-                const StateStore::Insert r = run.add(&children[c * words], hashes[c], layer[begin + c / inputs],
+                const StateStore::Insert r = run.add(&b.children[c * words], b.hashes[c], layer[begin + c / inputs],
                                                      static_cast<uint8_t>(c % inputs), depth + 1, &child);
                 if (r == StateStore::Insert::Full) return run.finish(Status::Limit);
                 if (r == StateStore::Insert::Added) next.push_back(child);

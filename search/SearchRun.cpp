@@ -64,4 +64,12 @@ void SearchRun::reportProgress(int depth) {
     options_.progress(Progress{depth, result.expanded, store.size(), now, store.bytes()});
 }
 
+void ExpandBuffers::fit(size_t count, size_t words, size_t inputs, bool withEstimates) {
+    if (keys.size() < count * words) keys.resize(count * words);
+    if (children.size() < count * inputs * words) children.resize(count * inputs * words);
+    if (flags.size() < count * inputs) flags.resize(count * inputs);
+    if (hashes.size() < count * inputs) hashes.resize(count * inputs);
+    if (withEstimates && estimates.size() < count * inputs) estimates.resize(count * inputs);
+}
+
 }  // namespace psc::search

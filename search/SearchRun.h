@@ -36,6 +36,19 @@ private:
     double lastProgress_ = 0;
 };
 
+// One expand call's keys in and children out, grown to the largest batch
+// expanded so far: sized for maxBatch() up front, their zero-filling alone
+// took a large level's search about 50 ms before its first expansion.
+struct ExpandBuffers {
+    std::vector<uint64_t> keys;
+    std::vector<uint64_t> children;
+    std::vector<uint8_t> flags;
+    std::vector<uint64_t> hashes;
+    std::vector<int32_t> estimates;
+
+    void fit(size_t count, size_t words, size_t inputs, bool withEstimates);
+};
+
 SolveResult breadthFirst(SearchRun& run);
 // f = gWeight * depth + hWeight * estimate.
 SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight);

@@ -10,6 +10,8 @@ trace on the CPU, writing one JSON report per check into DIR (default
 docs/results/fidelity).  The GPU's reports come from the device machine:
 `tools/gpu_check.sh replay` writes testsuite_cuda.json and scraped_cuda.json,
 to be copied into DIR as replay-cuda-testsuite.json and replay-cuda-scraped.json.
+CTest's corpus-replay-testsuite and corpus-replay-scraped-sample write the
+CPU's reports of their runs into the build folder as well.
 `render` writes the page from whatever reports DIR holds, each table with the
 command, commit, machine and day that produced it.
 """
