@@ -66,21 +66,21 @@ def replay(psc, corpus, entry, extra, dumps, timeout):
     return entry, code, out, time.time() - start, file_sha1(dump) if dump else None
 
 
-def provenance(a):
+def provenance(command, psc, backend):
     """What produced a report: the command, psc's commit, the machine and the day."""
     # An installed psc of tools/device_bundle.sh names its commit beside it.
-    stamp = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(a.psc))), "COMMIT")
+    stamp = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(psc))), "COMMIT")
     if os.path.exists(stamp):
         commit = open(stamp).read().strip()
     else:
-        commit = subprocess.run(["git", "describe", "--always", "--dirty"], capture_output=True, text=True).stdout.strip()
+        commit = subprocess.run(["git", "describe", "--always", "--dirty"], capture_output=True, text=True,
+                                cwd=os.path.dirname(os.path.abspath(__file__))).stdout.strip()
     cpu = next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")), "?")
     machine = f"{cpu}, {os.cpu_count()} cores"
-    if a.backend == "cuda":
+    if backend == "cuda":
         gpu = subprocess.run(["nvidia-smi", "--query-gpu=name", "--format=csv,noheader"], capture_output=True, text=True).stdout
         machine = f"{gpu.splitlines()[0].strip() if gpu.strip() else 'unknown GPU'}; {machine}"
-    return {"command": "tools/corpus_replay.py " + " ".join(sys.argv[1:]), "commit": commit or "unknown",
-            "machine": machine, "date": time.strftime("%Y-%m-%d")}
+    return {"command": command, "commit": commit or "unknown", "machine": machine, "date": time.strftime("%Y-%m-%d")}
 
 
 def write_report(a, results, meta):
@@ -131,7 +131,7 @@ def main():
         (["--check-keys"] if a.check_keys else [])
     if a.dumps:
         os.makedirs(a.dumps, exist_ok=True)
-    meta = provenance(a) if a.json else {}
+    meta = provenance("tools/corpus_replay.py " + " ".join(sys.argv[1:]), a.psc, a.backend) if a.json else {}
     results = []
     retry = []
     reported = time.time()

@@ -22,12 +22,11 @@ import re
 import subprocess
 import sys
 import textwrap
-import time
 from collections import Counter
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from corpus_replay import load_index  # noqa: E402
+from corpus_replay import load_index, provenance  # noqa: E402
 
 FRONTEND_CHECKS = [
     ("errors", "`errors` cases: psc's error / no-error verdict equals the reference's", 99.0),
@@ -39,16 +38,6 @@ FRONTEND_CHECKS = [
 REPLAY_BARS = {("testsuite", "cpu"): 99.0, ("scraped", "cpu"): 97.0, ("testsuite", "cuda"): 99.0, ("scraped", "cuda"): 97.0}
 
 
-def git_commit():
-    return subprocess.run(["git", "describe", "--always", "--dirty"], capture_output=True, text=True,
-                          cwd=HERE).stdout.strip() or "unknown"
-
-
-def machine():
-    cpu = next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")), "?")
-    return f"{cpu}, {os.cpu_count()} cores"
-
-
 def run(a):
     os.makedirs(a.results, exist_ok=True)
     out = os.path.join(a.results, "frontend.json")
@@ -57,8 +46,7 @@ def run(a):
     subprocess.run(command, check=False)
     with open(out) as f:
         report = json.load(f)
-    report["meta"] = {"command": " ".join(command), "commit": git_commit(), "machine": machine(),
-                      "date": time.strftime("%Y-%m-%d")}
+    report["meta"] = provenance(" ".join(command), a.psc, "cpu")
     with open(out, "w") as f:
         json.dump(report, f, indent=1)
     for suite in ("testsuite", "scraped"):
@@ -90,7 +78,7 @@ def para(text):
     return textwrap.fill(text, 78, break_on_hyphens=False, break_long_words=False)
 
 
-def provenance(meta):
+def provenance_line(meta):
     return (f"`{meta.get('command', '?')}` at {meta.get('commit', '?')}, {meta.get('date', '?')}, "
             f"on {meta.get('machine', '?')}")
 
@@ -106,7 +94,7 @@ def render(a):
     path = os.path.join(results, "frontend.json")
     if os.path.exists(path):
         report = json.load(open(path))
-        lines += ["## Front end", "", provenance(report.get("meta", {})) + ":", "",
+        lines += ["## Front end", "", provenance_line(report.get("meta", {})) + ":", "",
                   "| check | passed | share | bar |", "|---|---:|---:|---:|"]
         failures = []
         for key, words, bar in FRONTEND_CHECKS:
@@ -134,7 +122,7 @@ def render(a):
             rows.append(f"| {suite} | {backend.upper()} | {replayed} | {status['pass']} | "
                         f"{percent(status['pass'], len(cases))} | {status['mismatch']} | {status['error']} | "
                         f"{status['timeout']} | {other} | ≥ {REPLAY_BARS[(suite, backend)]:g} % |")
-            sources.append(f"- {suite}, {backend.upper()}: {provenance(report)}")
+            sources.append(f"- {suite}, {backend.upper()}: {provenance_line(report)}")
             grouped = Counter((c["status"], cause(c)) for c in cases if c["status"] != "pass")
             for (s, why), n in grouped.most_common():
                 example = next(c["id"] for c in cases if c["status"] == s and cause(c) == why)
