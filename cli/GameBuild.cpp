@@ -33,6 +33,7 @@ codegen::SourceOptions sourceOptions(const std::string& text, const std::string&
     so.gpuState = options.gpuState;
     so.cudaUnits = options.cudaUnits;
     so.searchKernels = options.searchKernels;
+    so.ruleForm = options.ruleForm;
     return so;
 }
 
@@ -158,7 +159,9 @@ std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const s
 
 std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text, const std::string& path,
                                    const GameBuildOptions& options, std::string* pluginPath) {
-    const codegen::SourceOptions so = sourceOptions(text, path, options);
+    codegen::SourceOptions so = sourceOptions(text, path, options);
+    so.decidedRuleForm = codegen::ruleForm(game, so);
+    if (options.build.verbose) fmt::print(stderr, "psc: {}\n", so.decidedRuleForm->reason);
     BuildOptions build = options.build;
     build.units = codegen::hostCompileUnits(game, so);
     BuildResult built;

@@ -24,6 +24,7 @@ struct GameBuildOptions {
     std::string gpuState = "auto";  // auto | registers | memory | shared (codegen::SourceOptions)
     int cudaUnits = 0;              // CUDA compile units; 0: chosen by codegen (codegen::SourceOptions)
     bool searchKernels = false;     // psc_expand on the GPU (codegen::SourceOptions)
+    std::string ruleForm = "auto";  // auto | code | table (codegen::SourceOptions)
 };
 
 // The code generator's options for building `text` (read from `path`).

@@ -56,7 +56,7 @@ int runCheck(const std::string& path, bool cuda) {
 }
 
 int runEmit(const std::string& path, const std::string& stage, const std::string& format, bool keepGoing,
-            const std::vector<int>& levels) {
+            const std::vector<int>& levels, const std::string& ruleForm) {
     auto source = cli::readSource(path);
     if (!source) return 1;
     if (stage == "cpp") {
@@ -64,6 +64,7 @@ int runEmit(const std::string& path, const std::string& stage, const std::string
         gb.keepGoing = keepGoing;
         gb.levels = levels;
         gb.target = "cpu";
+        gb.ruleForm = ruleForm;
         auto game = cli::compileForBuild(*source, path, gb);
         if (!game) return 1;
         fmt::print("{}", codegen::cpuPluginSource(*game, cli::sourceOptions(*source, path, gb)));
@@ -146,6 +147,12 @@ int main(int argc, char** argv) {
     int cudaUnits = 0;
     const char* cudaUnitsHelp = "CUDA compile units NVRTC compiles at once (memory layout); 0: by code size";
     app.add_option("--cuda-units", cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
+    std::string ruleForm = "auto";
+    const auto ruleForms = CLI::IsMember({"auto", "code", "table"});
+    const char* ruleFormHelp =
+        "rules as straight-line code (fastest steps), as a table an interpreter reads (compiles in seconds), "
+        "or auto: code unless too large to compile in time";
+    app.add_option("--rules", ruleForm, ruleFormHelp)->check(ruleForms);
     app.add_flag("--verbose", verbose, "print the compiler command and cache use");
     bool searchKernels = false;
     app.add_flag("--search-kernels", searchKernels, "also compile search's GPU expansion kernel (psc_expand on CUDA batches)");
@@ -169,6 +176,7 @@ int main(int argc, char** argv) {
     replay->add_option("--device", replayOptions.device, "CUDA device ordinal (--backend cuda)")->check(CLI::Range(0, 1023));
     replay->add_option("--fast-compile", replayOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     replay->add_option("--gpu-state", replayOptions.build.gpuState, gpuStateHelp)->check(gpuStates);
+    replay->add_option("--rules", replayOptions.build.ruleForm, ruleFormHelp)->check(ruleForms);
     replay->add_option("--cuda-units", replayOptions.build.cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     replay->add_option("--dump", replayOptions.dumpPath, "write every state as a JSON line to this file");
     replay->add_flag("--check-keys", replayOptions.checkKeys, "also check that every level state's search key gives it back");
@@ -190,6 +198,7 @@ int main(int argc, char** argv) {
         ->excludes("--device");
     bench->add_option("--fast-compile", benchOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     bench->add_option("--gpu-state", benchOptions.build.gpuState, gpuStateHelp)->check(gpuStates);
+    bench->add_option("--rules", benchOptions.build.ruleForm, ruleFormHelp)->check(ruleForms);
     bench->add_option("--cuda-units", benchOptions.build.cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     bench->add_flag("--native", benchOptions.build.build.native, "compile for this machine (-march=native)");
     bench->add_flag("--expand", benchOptions.expand, "measure search's batched expansion (children/s) instead of steps/s");
@@ -220,6 +229,7 @@ int main(int argc, char** argv) {
     solve->add_flag("--keep-going", solveOptions.build.keepGoing, "search games that have errors but that the reference engine still plays");
     solve->add_option("--fast-compile", solveOptions.build.cuda.fastCompile, fastCompileHelp)->check(fastCompileLevels);
     solve->add_option("--gpu-state", solveOptions.build.gpuState, gpuStateHelp)->check(gpuStates);
+    solve->add_option("--rules", solveOptions.build.ruleForm, ruleFormHelp)->check(ruleForms);
     solve->add_flag("--verbose", solveOptions.build.build.verbose, "print the compiler command and cache use");
 
     cli::PlayCommandOptions playOptions;
@@ -273,6 +283,7 @@ int main(int argc, char** argv) {
         options.gpuState = gpuState;
         options.cudaUnits = cudaUnits;
         options.searchKernels = searchKernels;
+        options.ruleForm = ruleForm;
         return runBuild(game, output, options);
     }
     if (format == "reference" && emit != "ir") {
@@ -293,6 +304,7 @@ int main(int argc, char** argv) {
         gb.gpuState = gpuState;
         gb.cudaUnits = cudaUnits;
         gb.searchKernels = searchKernels;
+        gb.ruleForm = ruleForm;
         auto compiled = cli::compileForBuild(*source, game, gb);
         if (!compiled) return 1;
         if (emit == "cuda") {
@@ -307,5 +319,5 @@ int main(int argc, char** argv) {
         }
         return 0;
     }
-    return runEmit(game, emit, format, keepGoing, buildLevels);
+    return runEmit(game, emit, format, keepGoing, buildLevels, ruleForm);
 }

@@ -8,6 +8,7 @@
 #include "CodeWriter.h"
 #include "KeyObjects.h"
 #include "RuleCode.h"
+#include "RuleTable.h"
 #include "Templates.h"
 #include "base/JsString.h"
 #include "base/JsonText.h"
@@ -108,6 +109,7 @@ std::string shapingOptions(const SourceOptions& o) {
     if (o.target != "cpu" && o.gpuState != "auto") out += " --gpu-state " + o.gpuState;
     if (o.target != "cpu" && o.cudaUnits > 0) out += fmt::format(" --cuda-units {}", o.cudaUnits);
     if (o.target != "cpu" && o.searchKernels) out += " --search-kernels";
+    if (o.ruleForm != "auto") out += " --rules " + o.ruleForm;
     return out;
 }
 
@@ -540,12 +542,17 @@ int boardWords(const ir::Game& game, const SourceOptions& options) {
 
 namespace {
 
-GpuCode gpuCode(const ir::Game& game, const SourceOptions& options) {
-    CodeWriter rules;
-    emitRules(rules, game);
-    const size_t ruleBytes = rules.text().size();
+GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFormChoice& form) {
+    const size_t ruleBytes = form.codeBytes;
     const int words = boardWords(game, options);
     GpuCode gpu;
+    if (form.table) {
+        // The interpreter reads boards by run-time index, which would leave
+        // registers anyway, and its code is small: one program.
+        gpu.inRegisters = options.gpuState == "registers";
+        gpu.inShared = options.gpuState == "shared";
+        return gpu;
+    }
     if (options.gpuState != "auto") {
         gpu.inRegisters = options.gpuState == "registers";
         gpu.inShared = options.gpuState == "shared";
@@ -572,13 +579,38 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options) {
 
 }  // namespace
 
+RuleFormChoice ruleForm(const ir::Game& game, const SourceOptions& options) {
+    if (options.decidedRuleForm) return *options.decidedRuleForm;
+    RuleFormChoice choice;
+    if (options.ruleForm == "table") {
+        choice.table = true;
+        choice.reason = "rules as a table (--rules table)";
+        return choice;
+    }
+    CodeWriter rules;
+    emitRules(rules, game);
+    choice.codeBytes = rules.text().size();
+    const double megabytes = static_cast<double>(choice.codeBytes) / 1e6;
+    if (options.ruleForm == "code") {
+        choice.reason = fmt::format("rules as code (--rules code): {:.2f} MB", megabytes);
+    } else if (choice.codeBytes > kTableRuleCodeBytes) {
+        choice.table = true;
+        choice.reason = fmt::format("rules as a table: their code would be {:.2f} MB, over the {:.1f} MB that compiles in time",
+                                    megabytes, static_cast<double>(kTableRuleCodeBytes) / 1e6);
+    } else {
+        choice.reason = fmt::format("rules as code: {:.2f} MB", megabytes);
+    }
+    return choice;
+}
+
 int hostCompileUnits(const ir::Game& game, const SourceOptions& options) {
-    return options.target == "cpu" ? 1 : gpuCode(game, options).units;
+    return options.target == "cpu" ? 1 : gpuCode(game, options, ruleForm(game, options)).units;
 }
 
 std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     CodeWriter out;
-    const GpuCode gpu = gpuCode(game, options);
+    const RuleFormChoice form = ruleForm(game, options);
+    const GpuCode gpu = gpuCode(game, options, form);
     emitConstants(out, game, options, gpu);
     out.raw(templates::core());
     out.line();
@@ -589,7 +621,17 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     out.line("PSC_DEVICE PSC_INLINE u32 queueCommands(u32 queue, u32 commands);");
     if (!ruleMessages(game).empty()) out.line("PSC_DEVICE PSC_INLINE void queueMessageRule(Env& e, u32 commands, int message);");
     out.line();
-    emitRules(out, game, options.target == "cpu" ? 1 : gpu.units);
+    if (form.table) {
+        emitRuleTableData(out, game);
+        out.close("  // namespace psc_game");
+        out.line();
+        out.raw(templates::ruleTable());
+        out.line();
+        out.open("namespace psc_game");
+        emitRuleTableGroups(out, game);
+    } else {
+        emitRules(out, game, options.target == "cpu" ? 1 : gpu.units);
+    }
     out.close("  // namespace psc_game");
     out.line();
     out.raw(templates::movement());

@@ -7,12 +7,20 @@
 // options: the same input gives the same bytes.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "ir/Ir.h"
 
 namespace psc::codegen {
+
+// How a game's rules are written (SourceOptions::ruleForm), and why.
+struct RuleFormChoice {
+    bool table = false;
+    size_t codeBytes = 0;  // the rules as straight-line code (0 when not measured)
+    std::string reason;
+};
 
 struct SourceOptions {
     std::string sourceName;  // shown in the header comment and in game info
@@ -34,7 +42,17 @@ struct SourceOptions {
     // Off by default: in the registers layout it inlines every rule a second
     // time, which costs NVRTC up to 80% more time (docs/search.md).
     bool searchKernels = false;
+    // How the rules are written: "code" (straight-line, RuleCode), "table"
+    // (records an interpreter reads, RuleTable: compiles in seconds, steps
+    // slower), or "auto": code unless it would be over kTableRuleCodeBytes.
+    std::string ruleForm = "auto";
+    // ruleForm(game, *this), when a build has decided it already: deciding
+    // writes the rules out once, seconds for the largest games.
+    std::optional<RuleFormChoice> decidedRuleForm;
 };
+
+// The rule form a source gets, and why (for --verbose).
+RuleFormChoice ruleForm(const ir::Game& game, const SourceOptions& options);
 
 // The part that runs per environment (host and device): tables, rules, engine.
 std::string deviceSource(const ir::Game& game, const SourceOptions& options);

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "Identifiers.h"
+#include "RuleParts.h"
 #include "ir/IrDump.h"
 
 namespace psc::codegen {
@@ -193,57 +194,34 @@ std::string recheck(const RowLayout& row) {
 
 // ---- replacements
 
-// Object changes, layer by layer: a layer cleared as a whole (keeping at
-// most the one object set on it) is one call of its layer helper.
 void emitObjectUpdates(CodeWriter& out, const Game& g, const BitSet& set, const BitSet& clear) {
-    BitSet handled(static_cast<size_t>(g.objectCount));
-    for (size_t L = 0; L < g.layerMasks.size(); ++L) {
-        const BitSet& layer = g.layerMasks[L];
-        if (layer.none() || !layer.subsetOf(clear)) continue;
-        BitSet setHere = set;
-        setHere &= layer;
-        if (setHere.count() > 1) continue;
-        const std::vector<int> kept = setHere.bits();
-        out.line(fmt::format("ch |= putLayer{}(e, p, {});", L, kept.empty() ? std::string("-1") : std::to_string(kept[0])));
-        handled |= layer;
+    for (const ObjectUpdate& u : objectUpdates(g, set, clear)) {
+        if (u.kind == ObjectUpdate::kPutLayer) {
+            out.line(fmt::format("ch |= putLayer{}(e, p, {});", u.layerOrObject, u.keepOrValue));
+        } else {
+            out.line(fmt::format("ch |= e.obj[{}].assign(p, {});", u.layerOrObject, u.keepOrValue ? "true" : "false"));
+        }
     }
-    clear.forEach([&](size_t id) {
-        if (!set.test(id) && !handled.test(id)) out.line(fmt::format("ch |= e.obj[{}].assign(p, false);", id));
-    });
-    set.forEach([&](size_t id) {
-        if (!handled.test(id)) out.line(fmt::format("ch |= e.obj[{}].assign(p, true);", id));
-    });
 }
 
 void emitMovementUpdates(CodeWriter& out, const Game& g, const ir::Replacement& r, std::optional<int> entityLayer) {
-    for (int L = 0; L < g.layerCount; ++L) {
-        const bool randomDir = r.randomDirMask.test(static_cast<size_t>(5 * L));
-        unsigned set = r.movementsSet.field(L);
-        unsigned clear = r.movementsClear.field(L) | r.movementsLayerMask.field(L) | (entityLayer == L ? 31u : 0u);
-        clear &= ~set;
-        if (randomDir) {
-            out.line(fmt::format("ch |= putMovement(e, p, {}, {}u, {}u | (1u << rd{}));", L, clear, set, L));
-        } else if (set || clear) {
-            out.line(fmt::format("ch |= putMovement(e, p, {}, {}u, {}u);", L, clear, set));
+    for (const MovementUpdate& u : movementUpdates(g, r, entityLayer)) {
+        if (u.randomDirection) {
+            out.line(fmt::format("ch |= putMovement(e, p, {}, {}u, {}u | (1u << rd{}));", u.layer, u.clear, u.set, u.layer));
+        } else {
+            out.line(fmt::format("ch |= putMovement(e, p, {}, {}u, {}u);", u.layer, u.clear, u.set));
         }
     }
 }
 
 void emitRigidClaim(CodeWriter& out, const Game& g, const Rule& rule, const ir::Replacement& r) {
-    auto it = g.groupNumberToRigidGroupIndex.find(rule.groupNumber);
-    if (it == g.groupNumberToRigidGroupIndex.end()) return;
-    const int claim = it->second + 1;
-    std::vector<int> layers;
-    for (int L = 0; L < g.layerCount; ++L) {
-        if (r.movementsLayerMask.field(L)) layers.push_back(L);
-    }
-    if (layers.empty()) return;
+    const RigidClaim claim = rigidClaim(g, rule, r);
     std::vector<std::string> groupMissing;
     std::vector<std::string> appliedMissing;
     std::vector<std::string> claims;
-    for (int L : layers) {
+    for (int L : claim.layers) {
         for (int k = 0; k < 5; ++k) {
-            if (!((claim >> k) & 1)) continue;
+            if (!((claim.claim >> k) & 1)) continue;
             groupMissing.push_back(fmt::format("!t.rigidGroup[{}].test(p)", 5 * L + k));
             claims.push_back(fmt::format("t.rigidGroup[{}].set(p);", 5 * L + k));
         }
@@ -255,14 +233,6 @@ void emitRigidClaim(CodeWriter& out, const Game& g, const Rule& rule, const ir::
     for (const auto& c : claims) out.line(c);
     out.line("ch = true;");
     out.close();
-}
-
-int layerOfObject(const Game& g, int id) {
-    if (id < 0 || id >= g.objectCount) return -1;
-    const ir::Object& o = g.objects[static_cast<size_t>(id)];
-    if (o.layer) return *o.layer;
-    if (o.liveId) return g.objects[static_cast<size_t>(*o.liveId)].layer.value_or(-1);
-    return -1;
 }
 
 void emitReplacement(CodeWriter& out, const Game& g, const Rule& rule, const CellPattern& cell, const std::string& pos) {
@@ -309,35 +279,11 @@ void emitApplyRow(CodeWriter& out, const Game& g, const Rule& rule, const RowLay
     }
 }
 
-uint32_t commandBits(const Rule& rule) {
-    uint32_t bits = 0;
-    for (const auto& c : rule.commands) {
-        if (c.name == "cancel") bits |= 1u << 0;
-        else if (c.name == "again") bits |= 1u << 1;
-        else if (c.name == "win") bits |= 1u << 2;
-        else if (c.name == "restart") bits |= 1u << 3;
-        else if (c.name == "checkpoint") bits |= 1u << 4;
-        else if (c.name == "message") bits |= 1u << 5;
-        else if (c.name.rfind("sfx", 0) == 0) bits |= 1u << (6 + std::stoi(c.name.substr(3)));
-    }
-    return bits;
-}
-
-// The text of the rule's `message` command, if it has one.
-const std::string* messageOf(const Rule& rule) {
-    for (const auto& c : rule.commands) {
-        if (c.name == "message") return &c.message;
-    }
-    return nullptr;
-}
-
 // The statement that queues the rule's commands (`commands` != 0).
-std::string queueStatement(const Game& g, const Rule& rule, uint32_t commands) {
-    const std::string* message = messageOf(rule);
-    if (!message) return fmt::format("e.queue = queueCommands(e.queue, {}u);", commands);
-    const std::vector<std::string> texts = ruleMessages(g);
-    const auto at = std::find(texts.begin(), texts.end(), *message);
-    return fmt::format("queueMessageRule(e, {}u, {});", commands, at - texts.begin());
+std::string queueStatement(const Rule& rule, uint32_t commands, const std::vector<std::string>& messages) {
+    const int message = messageIndex(rule, messages);
+    if (message < 0) return fmt::format("e.queue = queueCommands(e.queue, {}u);", commands);
+    return fmt::format("queueMessageRule(e, {}u, {});", commands, message);
 }
 
 // ---- whole rules
@@ -383,7 +329,8 @@ bool hasEllipsis(const Rule& rule) {
     return false;
 }
 
-void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames& names, bool inRandomGroup) {
+void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames& names, bool inRandomGroup,
+              const std::vector<std::string>& messages) {
     out.line("// line " + std::to_string(rule.line) + ": " + ir::ruleText(g, rule));
     const uint32_t commands = commandBits(rule);
     if (!inRandomGroup) {
@@ -400,14 +347,14 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
                 out.line("first = false;");
                 for (const auto& row : rows) emitApplyRow(out, g, rule, row);
             });
-            if (commands) out.line("if (!first) " + queueStatement(g, rule, commands));
+            if (commands) out.line("if (!first) " + queueStatement(rule, commands, messages));
         } else {
             if (!hasEllipsis(rule)) {
-                if (commands) out.line(queueStatement(g, rule, commands));
+                if (commands) out.line(queueStatement(rule, commands, messages));
             } else {
                 out.line("bool matched = false;");
                 emitTupleLoops(out, rule, [&](const std::vector<RowLayout>&) { out.line("matched = true;"); });
-                if (commands) out.line("if (matched) " + queueStatement(g, rule, commands));
+                if (commands) out.line("if (matched) " + queueStatement(rule, commands, messages));
             }
         }
         out.line("return changed;");
@@ -441,14 +388,10 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
         for (const auto& row : rows) emitApplyRow(out, g, rule, row);
         out.close();
     });
-    if (commands) out.line(queueStatement(g, rule, commands));
+    if (commands) out.line(queueStatement(rule, commands, messages));
     out.line("return changed;");
     out.close();
     out.line();
-}
-
-std::string groupName(const ir::RuleGroup& group, size_t index, bool late) {
-    return fmt::format("{}group_{}_L{}", late ? "late_" : "", index, group.groupNumber);
 }
 
 // A function, or a random rule's two, as code and as declarations: the unit
@@ -499,13 +442,13 @@ void emitGroupFunction(CodeWriter& out, const ir::RuleGroup& group, size_t index
 }
 
 void emitGroup(std::vector<Piece>& pieces, int indent, const Game& g, const ir::RuleGroup& group, size_t index,
-               bool late, std::set<std::string>& used) {
+               bool late, std::set<std::string>& used, const std::vector<std::string>& messages) {
     std::vector<RuleNames> names;
     for (const auto& rule : group.rules) {
         std::string base = uniqueIdentifier(ruleIdentifier(g, rule, late), used);
         names.push_back({base, base + "_count", base + "_apply_nth"});
         CodeWriter code(indent);
-        emitRule(code, g, rule, names.back(), group.random);
+        emitRule(code, g, rule, names.back(), group.random, messages);
         const RuleNames& n = names.back();
         pieces.push_back({code.text(), group.random ? std::vector<std::string>{
                                                           "PSC_DEVICE PSC_RULE long long " + n.count + "(const Env& e);",
@@ -517,6 +460,8 @@ void emitGroup(std::vector<Piece>& pieces, int indent, const Game& g, const ir::
     emitGroupFunction(code, group, index, late, names);
     pieces.push_back({code.text(), {"PSC_DEVICE PSC_RULE bool " + groupName(group, index, late) + "(Env& e, Turn& t);"}});
 }
+
+}  // namespace
 
 void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGroup>& groups,
                     const std::map<int, int>& loops, bool late) {
@@ -563,13 +508,12 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
     out.line();
 }
 
-}  // namespace
-
 void emitRules(CodeWriter& out, const Game& game, int units) {
     std::vector<Piece> pieces;
     std::set<std::string> used;
-    for (size_t i = 0; i < game.rules.size(); ++i) emitGroup(pieces, out.indent(), game, game.rules[i], i, false, used);
-    for (size_t i = 0; i < game.lateRules.size(); ++i) emitGroup(pieces, out.indent(), game, game.lateRules[i], i, true, used);
+    const std::vector<std::string> messages = ruleMessages(game);
+    for (size_t i = 0; i < game.rules.size(); ++i) emitGroup(pieces, out.indent(), game, game.rules[i], i, false, used, messages);
+    for (size_t i = 0; i < game.lateRules.size(); ++i) emitGroup(pieces, out.indent(), game, game.lateRules[i], i, true, used, messages);
     if (units <= 1) {
         for (const auto& piece : pieces) out.raw(piece.text);
     } else {
@@ -610,8 +554,11 @@ std::vector<std::string> ruleMessages(const Game& game) {
     for (const auto* groups : {&game.rules, &game.lateRules}) {
         for (const auto& group : *groups) {
             for (const auto& rule : group.rules) {
-                const std::string* message = messageOf(rule);
-                if (message && std::find(texts.begin(), texts.end(), *message) == texts.end()) texts.push_back(*message);
+                for (const auto& c : rule.commands) {
+                    if (c.name != "message") continue;
+                    if (std::find(texts.begin(), texts.end(), c.message) == texts.end()) texts.push_back(c.message);
+                    break;
+                }
             }
         }
     }

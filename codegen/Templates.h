@@ -9,6 +9,7 @@ namespace psc::codegen::templates {
 const std::string& core();          // templates/core.h
 const std::string& movement();      // templates/movement.h
 const std::string& engine();        // templates/engine.h
+const std::string& ruleTable();     // templates/rule_table.h
 const std::string& stateKey();      // templates/state_key.h
 const std::string& hostPrelude();   // templates/host_prelude.h
 const std::string& hostNoCuda();    // templates/host_nocuda.h

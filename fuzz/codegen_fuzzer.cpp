@@ -1,5 +1,6 @@
-// Fuzz target (b): the front end and the code generator (`psc --emit cpp`,
-// and the CUDA source) on every game the front end accepts.  With
+// Fuzz target (b): the front end and the code generator (`psc --emit cpp`
+// in both rule forms, and the CUDA source) on every game the front end
+// accepts.  With
 // PSC_FUZZ_COMPILE_EVERY=N, one accepted input in N (chosen by its hash, so a
 // reproduction checks it again) has its generated C++ checked by the system
 // compiler (-fsyntax-only): a source that does not compile is a crash.
@@ -45,6 +46,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     so.sourceName = "fuzz.txt";
     so.sourceSha1 = psc::sha1Hex(text);
     const std::string cpu = psc::codegen::cpuPluginSource(*result.game, so);
+    so.ruleForm = "table";
+    const std::string cpuTable = psc::codegen::cpuPluginSource(*result.game, so);
+    so.ruleForm = "auto";
     so.target = "cuda";
     psc::codegen::cudaSource(*result.game, so);
     static const long every = [] {
@@ -53,6 +57,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }();
     if (every > 0 && std::stoul(so.sourceSha1.substr(0, 8), nullptr, 16) % static_cast<unsigned long>(every) == 0) {
         checkCompiles(cpu, so.sourceSha1);
+        checkCompiles(cpuTable, so.sourceSha1 + "-table");
     }
     return 0;
 }

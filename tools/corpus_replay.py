@@ -3,7 +3,7 @@
 
     tools/corpus_replay.py [--psc build/cli/psc] [--corpus ../shared/corpus]
                            [--suite testsuite|scraped|all] [--jobs N] [--sample N]
-                           [--backend cpu|cuda] [--fast-compile LEVEL] [--gpu-state STATE]
+                           [--backend cpu|cuda] [--fast-compile LEVEL] [--gpu-state STATE] [--rules FORM]
                            [--dumps DIR] [--json report.json]
                            [--min PERCENT] [--ids-file FILE] [--timeout S] [--verbose] [--list] [IDS...]
 
@@ -102,6 +102,7 @@ def main():
     ap.add_argument("--backend", default="cpu")
     ap.add_argument("--fast-compile", default="", help="psc replay's --fast-compile (CUDA)")
     ap.add_argument("--gpu-state", default="", help="psc replay's --gpu-state (CUDA)")
+    ap.add_argument("--rules", default="", help="psc replay's --rules: code, table or auto")
     ap.add_argument("--dumps", default="", help="write every case's states to this folder")
     ap.add_argument("--ids-file", default="", help="replay the case ids listed in this file (one a line)")
     ap.add_argument("--timeout", type=float, default=300, help="seconds a case may take, compile included")
@@ -127,7 +128,8 @@ def main():
         print("\n".join(os.path.join(a.corpus, e["path"]) for e in cases))
         return
     extra = ["--backend", a.backend] + (["--fast-compile", a.fast_compile] if a.fast_compile else []) + \
-        (["--gpu-state", a.gpu_state] if a.gpu_state else []) + (["--verbose"] if a.verbose else []) + \
+        (["--gpu-state", a.gpu_state] if a.gpu_state else []) + (["--rules", a.rules] if a.rules else []) + \
+        (["--verbose"] if a.verbose else []) + \
         (["--check-keys"] if a.check_keys else [])
     if a.dumps:
         os.makedirs(a.dumps, exist_ok=True)

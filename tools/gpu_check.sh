@@ -29,7 +29,7 @@
 #             per GPU) psc bench --devices over 1 and all GPUs (one process), and examples/torchrun_rollout.py
 #             on 1 and all GPUs at the last batch (one process a GPU)
 # FAST_COMPILE sets psc's --fast-compile (compile, prebuild, bench, replay, sanitize);
-# GPU_STATE its --gpu-state (prebuild, bench, replay); GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
+# GPU_STATE its --gpu-state (prebuild, bench, replay); RULES its --rules (replay); GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
 # REPLAY_IDS (a file of case ids) limits it to some cases, REPLAY_SUITES to some suites,
 # REPLAY_JOBS sets how many run at once and REPLAY_CASE_SECONDS how long each may take,
 # REPLAY_VERBOSE=1 keeps each case's compile, batch and stepping times in the report;
@@ -54,6 +54,7 @@ python=$(command -v python3)
 batches=${BATCHES:-1,1024,16384,131072,1048576,4194304}
 fast=(${FAST_COMPILE:+--fast-compile "$FAST_COMPILE"})
 state=(${GPU_STATE:+--gpu-state "$GPU_STATE"})
+rules=(${RULES:+--rules "$RULES"})
 
 for stage in "$@"; do
     echo "== $stage"
@@ -99,7 +100,7 @@ for stage in "$@"; do
     replay)
         for backend in ${REPLAY_BACKENDS:-cuda}; do
             for suite in ${REPLAY_SUITES:-testsuite scraped}; do
-                timeout "${REPLAY_SECONDS:-3000}" $python tools/corpus_replay.py --psc "$psc" --corpus $corpus --suite $suite --backend $backend "${fast[@]}" "${state[@]}" \
+                timeout "${REPLAY_SECONDS:-3000}" $python tools/corpus_replay.py --psc "$psc" --corpus $corpus --suite $suite --backend $backend "${fast[@]}" "${state[@]}" "${rules[@]}" \
                     --jobs "${REPLAY_JOBS:-$jobs}" --timeout "${REPLAY_CASE_SECONDS:-300}" --dumps /tmp/psc-dumps/$backend/$suite --json "$out/${suite}_$backend.json" ${REPLAY_IDS:+--ids-file "$REPLAY_IDS"} \
                     ${REPLAY_VERBOSE:+--verbose} | tail -5
             done

@@ -2,7 +2,8 @@
 """--emit cpp and --emit cuda print the source that a build with the same
 options compiles: --levels sizes the boards for the levels built in both, the
 header's regenerate command repeats the options that shaped the source, and
-the same command prints the same bytes twice.
+the same command prints the same bytes twice; --rules table writes the
+rules as a table, which a small game does not get by default.
 
     emit_options.py PSC GAME    (GAME: a game whose level 0 is smaller than its largest level)"""
 import re
@@ -33,6 +34,7 @@ def main():
     cpp_all = emit(psc, game, "--emit", "cpp")
     cpp_level0 = emit(psc, game, "--emit", "cpp", "--levels", "0")
     cuda_level0 = emit(psc, game, "--emit", "cuda", "--levels", "0", "--gpu-state", "shared", "--cuda-units", "2")
+    cpp_table = emit(psc, game, "--emit", "cpp", "--rules", "table")
     if not words(cpp_level0) or not words(cpp_all) or words(cpp_level0) >= words(cpp_all):
         failures.append(f"--emit cpp --levels 0 has {words(cpp_level0)} words a board, all levels {words(cpp_all)}")
     if words(cpp_level0) != words(cuda_level0):
@@ -41,12 +43,19 @@ def main():
         "cpp all": (cpp_all, f"psc {game} --emit cpp"),
         "cpp level 0": (cpp_level0, f"psc {game} --emit cpp --levels 0"),
         "cuda level 0": (cuda_level0, f"psc {game} --emit cuda --levels 0 --gpu-state shared --cuda-units 2"),
+        "cpp table": (cpp_table, f"psc {game} --emit cpp --rules table"),
     }
     for name, (source, command) in expected.items():
         if regenerate(source) != command:
             failures.append(f"{name}: the header says `{regenerate(source)}`, expected `{command}`")
     if "#define PSC_STATE_IN_SHARED 1" not in cuda_level0:
         failures.append("--gpu-state shared does not set PSC_STATE_IN_SHARED")
+    if "PSC_TABLE int kRuleData[]" not in cpp_table or re.search(r"PSC_RULE bool rule_", cpp_table):
+        failures.append("--rules table: no kRuleData, or rules still written as functions")
+    if "kRuleData" in cpp_all or not re.search(r"PSC_RULE bool rule_", cpp_all):
+        failures.append("a small game's rules are not written as code by default")
+    if emit(psc, game, "--emit", "cpp", "--rules", "table") != cpp_table:
+        failures.append("--emit cpp --rules table printed different bytes the second time")
     if emit(psc, game, "--emit", "cpp", "--levels", "0") != cpp_level0:
         failures.append("--emit cpp --levels 0 printed different bytes the second time")
     for f in failures:

@@ -1,0 +1,90 @@
+#include "RuleParts.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace psc::codegen {
+
+std::vector<ObjectUpdate> objectUpdates(const ir::Game& g, const BitSet& set, const BitSet& clear) {
+    std::vector<ObjectUpdate> out;
+    BitSet handled(static_cast<size_t>(g.objectCount));
+    for (size_t L = 0; L < g.layerMasks.size(); ++L) {
+        const BitSet& layer = g.layerMasks[L];
+        if (layer.none() || !layer.subsetOf(clear)) continue;
+        BitSet setHere = set;
+        setHere &= layer;
+        if (setHere.count() > 1) continue;
+        const std::vector<int> kept = setHere.bits();
+        out.push_back({ObjectUpdate::kPutLayer, static_cast<int>(L), kept.empty() ? -1 : kept[0]});
+        handled |= layer;
+    }
+    clear.forEach([&](size_t id) {
+        if (!set.test(id) && !handled.test(id)) out.push_back({ObjectUpdate::kAssign, static_cast<int>(id), 0});
+    });
+    set.forEach([&](size_t id) {
+        if (!handled.test(id)) out.push_back({ObjectUpdate::kAssign, static_cast<int>(id), 1});
+    });
+    return out;
+}
+
+std::vector<MovementUpdate> movementUpdates(const ir::Game& g, const ir::Replacement& r, std::optional<int> entityLayer) {
+    std::vector<MovementUpdate> out;
+    for (int L = 0; L < g.layerCount; ++L) {
+        const bool randomDir = r.randomDirMask.test(static_cast<size_t>(5 * L));
+        const uint32_t set = r.movementsSet.field(L);
+        uint32_t clear = r.movementsClear.field(L) | r.movementsLayerMask.field(L) | (entityLayer == L ? 31u : 0u);
+        clear &= ~set;
+        if (randomDir || set || clear) out.push_back({L, clear, set, randomDir});
+    }
+    return out;
+}
+
+RigidClaim rigidClaim(const ir::Game& g, const ir::Rule& rule, const ir::Replacement& r) {
+    RigidClaim out;
+    if (!rule.rigid) return out;
+    auto it = g.groupNumberToRigidGroupIndex.find(rule.groupNumber);
+    if (it == g.groupNumberToRigidGroupIndex.end()) return out;
+    for (int L = 0; L < g.layerCount; ++L) {
+        if (r.movementsLayerMask.field(L)) out.layers.push_back(L);
+    }
+    if (!out.layers.empty()) out.claim = it->second + 1;
+    return out;
+}
+
+int layerOfObject(const ir::Game& g, int id) {
+    if (id < 0 || id >= g.objectCount) return -1;
+    const ir::Object& o = g.objects[static_cast<size_t>(id)];
+    if (o.layer) return *o.layer;
+    if (o.liveId) return g.objects[static_cast<size_t>(*o.liveId)].layer.value_or(-1);
+    return -1;
+}
+
+uint32_t commandBits(const ir::Rule& rule) {
+    uint32_t bits = 0;
+    for (const auto& c : rule.commands) {
+        if (c.name == "cancel") bits |= 1u << 0;
+        else if (c.name == "again") bits |= 1u << 1;
+        else if (c.name == "win") bits |= 1u << 2;
+        else if (c.name == "restart") bits |= 1u << 3;
+        else if (c.name == "checkpoint") bits |= 1u << 4;
+        else if (c.name == "message") bits |= 1u << 5;
+        else if (c.name.rfind("sfx", 0) == 0) bits |= 1u << (6 + std::stoi(c.name.substr(3)));
+    }
+    return bits;
+}
+
+int messageIndex(const ir::Rule& rule, const std::vector<std::string>& messages) {
+    for (const auto& c : rule.commands) {
+        if (c.name != "message") continue;
+        const auto at = std::find(messages.begin(), messages.end(), c.message);
+        return at == messages.end() ? -1 : static_cast<int>(at - messages.begin());
+    }
+    return -1;
+}
+
+std::string groupName(const ir::RuleGroup& group, size_t index, bool late) {
+    return fmt::format("{}group_{}_L{}", late ? "late_" : "", index, group.groupNumber);
+}
+
+}  // namespace psc::codegen

@@ -1,0 +1,61 @@
+// RuleParts: what a rule's replacements and commands do, as data.
+//
+// Both rule forms read these: RuleCode spells them as straight-line C++,
+// RuleTable writes them into the table its interpreter walks
+// (templates/rule_table.h).  Deriving them once keeps the two forms doing
+// the same changes in the same order, which is what makes them bit-exact.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ir/Ir.h"
+
+namespace psc::codegen {
+
+// One change of a cell's objects: a collision layer cleared as a whole but
+// for at most one object it keeps (`keep`, or -1), or one object set or
+// cleared.
+struct ObjectUpdate {
+    enum Kind { kPutLayer, kAssign } kind;
+    int layerOrObject;
+    int keepOrValue;  // the object kept (-1: none), or the value assigned (0 or 1)
+};
+// Layers cleared whole come first (in layer order), then single objects
+// cleared, then set.
+std::vector<ObjectUpdate> objectUpdates(const ir::Game& game, const BitSet& set, const BitSet& clear);
+
+// One layer's movement field: bits `clear` cleared, `set` set (set wins),
+// plus the bit of a direction drawn at random when `randomDirection`.
+struct MovementUpdate {
+    int layer;
+    uint32_t clear;
+    uint32_t set;
+    bool randomDirection;
+};
+// `entityLayer`: the layer of a `random` object just placed, cleared whole.
+std::vector<MovementUpdate> movementUpdates(const ir::Game& game, const ir::Replacement& r, std::optional<int> entityLayer);
+
+// A rigid rule's claim on the layers its replacement moves: the rigid
+// group's index + 1 (0: the rule claims nothing) and those layers.
+struct RigidClaim {
+    int claim = 0;
+    std::vector<int> layers;
+};
+RigidClaim rigidClaim(const ir::Game& game, const ir::Rule& rule, const ir::Replacement& r);
+
+// The layer of object `id` (a ghost object's live object's), or -1.
+int layerOfObject(const ir::Game& game, int id);
+
+// The rule's commands as templates/core.h's Command bits.
+uint32_t commandBits(const ir::Rule& rule);
+
+// The index of the rule's `message` text in `messages` (ruleMessages), or -1.
+int messageIndex(const ir::Rule& rule, const std::vector<std::string>& messages);
+
+// The name of a group's function.
+std::string groupName(const ir::RuleGroup& group, size_t index, bool late);
+
+}  // namespace psc::codegen

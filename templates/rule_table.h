@@ -1,0 +1,420 @@
+// ---- psc template: rules read from a table -------------------------------
+// The compact rule form (codegen/RuleTable.h), chosen for games whose rules
+// as straight-line code would take the compilers minutes: each rule is a
+// record of kRuleData, and these functions do, record by record, exactly what
+// the straight-line form's functions do (codegen/RuleCode.cpp): the same
+// boards, the same scan order, the same re-checks, changes and random draws,
+// so both forms step bit for bit alike.  Slower per rule, but its code does
+// not grow with the game.  Included after the game's tables (kRuleData,
+// kLayerObjects) and before the groups' functions.
+//
+// Records (offsets are indices into kRuleData):
+//   rule: direction (0 down, 1 up, 2 right, 3 left), flags (1 replacements,
+//         2 ellipses), commands, message (-1: none), rigid claim (0: none),
+//         row count, then each row's offset
+//   row:  cell count, first and second ellipsis (-1: none), each cell's
+//         offset (-1: an ellipsis)
+//   cell: replacement offset (-1: none), term count, terms (each a count of
+//         boards that are ORed, then the boards), excluded count, boards;
+//         a board b >= 0 is e.obj[b], b < 0 is e.mov[-b - 1]
+//   replacement: candidate count (`random` objects; 0: none), the count and
+//         the layers of `randomdir`, then one block per candidate (or one):
+//         object updates (count; then kind 0 put layer L keep k, or kind 1
+//         assign object id value v, three numbers each) and movement updates
+//         (count; then layer, clear, set, random-direction flag); then the
+//         rigid claim's layers (count, layers)
+
+namespace psc_game {
+
+constexpr int kTableRuleFlagReplacements = 1;
+constexpr int kTableRuleFlagEllipses = 2;
+
+PSC_DEVICE PSC_INLINE const Board& tableBoard(const Env& e, int b) { return b >= 0 ? e.obj[b] : e.mov[-b - 1]; }
+
+// The positions where a cell's pattern holds (RuleCode's patternBoard).
+PSC_DEVICE PSC_COLD Board tableCellBoard(const Env& e, int cell) {
+    const int* c = kRuleData + cell + 1;
+    const int terms = *c++;
+    Board b = e.inside;
+    for (int k = 0; k < terms; ++k) {
+        const int n = *c++;
+        Board any = Board::zero();
+        for (int i = 0; i < n; ++i) any = any | tableBoard(e, *c++);
+        b = k == 0 ? any : b & any;
+    }
+    const int excluded = *c++;
+    if (excluded > 0) {
+        Board x = Board::zero();
+        for (int i = 0; i < excluded; ++i) x = x | tableBoard(e, *c++);
+        b = andNot(b, x);
+    }
+    return b;
+}
+
+// Whether a cell's pattern holds at p on the current board (RuleCode's patternAt).
+PSC_DEVICE PSC_COLD bool tableCellHolds(const Env& e, int cell, int p) {
+    const int* c = kRuleData + cell + 1;
+    const int terms = *c++;
+    if (terms == 0 && !e.inside.test(p)) return false;
+    for (int k = 0; k < terms; ++k) {
+        const int n = *c++;
+        bool any = false;
+        for (int i = 0; i < n; ++i) any = tableBoard(e, *c++).test(p) || any;
+        if (!any) return false;
+    }
+    const int excluded = *c++;
+    for (int i = 0; i < excluded; ++i) {
+        if (tableBoard(e, *c++).test(p)) return false;
+    }
+    return true;
+}
+
+PSC_DEVICE PSC_INLINE bool tablePutLayer(Env& e, int layer, int p, int keep) {
+    bool ch = false;
+    for (int i = kLayerObjectStart[layer]; i < kLayerObjectStart[layer + 1]; ++i) {
+        ch |= e.obj[kLayerObjects[i]].assign(p, keep == kLayerObjects[i]);
+    }
+    return ch;
+}
+
+// Applies a replacement at p (RuleCode's emitReplacement); returns whether it changed anything.
+PSC_DEVICE PSC_COLD bool tableReplace(Env& e, Turn& t, int rule, int replacement, int p) {
+    (void)t;
+    const int* r = kRuleData + replacement;
+    const int candidates = *r++;
+    int pick = 0;
+    int draws[kLayers];
+    const int randomDirections = *r++;
+#if PSC_USES_RANDOM
+    if (candidates > 0) pick = e.rng.below(candidates);
+    for (int i = 0; i < randomDirections; ++i) draws[r[i]] = e.rng.below(4);
+#else
+    (void)draws;
+#endif
+    r += randomDirections;
+    for (int block = 0; block < pick; ++block) {
+        r += 1 + 3 * r[0];
+        r += 1 + 4 * r[0];
+    }
+    bool ch = false;
+    const int objectUpdates = *r++;
+    for (int i = 0; i < objectUpdates; ++i, r += 3) {
+        ch |= r[0] == 0 ? tablePutLayer(e, r[1], p, r[2]) : e.obj[r[1]].assign(p, r[2] != 0);
+    }
+    const int movementUpdates = *r++;
+    for (int i = 0; i < movementUpdates; ++i, r += 4) {
+        const u32 set = static_cast<u32>(r[2]) | (r[3] ? 1u << draws[r[0]] : 0u);
+        ch |= putMovement(e, p, r[0], static_cast<u32>(r[1]), set);
+    }
+    for (int block = pick + 1; block < candidates; ++block) {
+        r += 1 + 3 * r[0];
+        r += 1 + 4 * r[0];
+    }
+#if PSC_HAS_RIGID
+    const int claim = kRuleData[rule + 4];
+    const int layers = *r++;
+    if (claim != 0) {
+        bool groupMissing = false;
+        bool appliedMissing = false;
+        for (int i = 0; i < layers; ++i) {
+            for (int k = 0; k < 5; ++k) {
+                if ((claim >> k) & 1) groupMissing = groupMissing || !t.rigidGroup[5 * r[i] + k].test(p);
+            }
+            appliedMissing = appliedMissing || !t.rigidApplied[r[i]].test(p);
+        }
+        if (groupMissing && appliedMissing) {
+            for (int i = 0; i < layers; ++i) {
+                for (int k = 0; k < 5; ++k) {
+                    if ((claim >> k) & 1) t.rigidGroup[5 * r[i] + k].set(p);
+                }
+                t.rigidApplied[r[i]].set(p);
+            }
+            ch = true;
+        }
+    }
+#else
+    (void)rule;
+#endif
+    return ch;
+}
+
+PSC_DEVICE PSC_INLINE void tableQueueCommands(Env& e, int rule) {
+    const u32 commands = static_cast<u32>(kRuleData[rule + 2]);
+    if (commands == 0) return;
+#if PSC_HAS_RULE_MESSAGES
+    if (kRuleData[rule + 3] >= 0) {
+        queueMessageRule(e, commands, kRuleData[rule + 3]);
+        return;
+    }
+#endif
+    e.queue = queueCommands(e.queue, commands);
+}
+
+// Where one row of a rule stands in the visit of its matches: its start s
+// (from its board, in the rule's scan order) and its ellipses' gaps.
+struct TableRowVisit {
+    Board rest;   // starts still to visit (vertical), or rows still to visit (horizontal)
+    Board mask;   // horizontal: the row of positions now visited
+    Board inRow;  // horizontal: starts of that row still to visit
+    bool more;    // horizontal: rows remain
+    int s;
+    int gapLimit;
+    int gap0;
+    int gap1;
+};
+
+// A rule's matches, visited as the straight-line form's nested loops visit
+// them: the last row outermost, each row's starts in scan order, then its
+// gaps; cells after an ellipsis are tested on the boards of the rule's start.
+struct TableMatches {
+    int rule;
+    int rows;
+    int d;
+    bool horizontal;
+    Board rowBoard[kTableMaxRows];
+    Board saved[kTableMaxSavedCells];  // cells after a first ellipsis, in row and cell order
+    int savedAt[kTableMaxRows];        // each row's first saved cell
+    TableRowVisit visit[kTableMaxRows];
+
+    PSC_DEVICE PSC_INLINE int row(int r) const { return kRuleData[rule + 6 + r]; }
+
+    // Position of cell i of row r at its current start and gaps.
+    PSC_DEVICE PSC_INLINE int position(int r, int i) const {
+        const int* w = kRuleData + row(r);
+        const TableRowVisit& v = visit[r];
+        if (w[1] < 0 || i < w[1]) return v.s + d * i;
+        if (w[2] < 0 || i < w[2]) return v.s + d * (v.gap0 + i - 1);
+        return v.s + d * (v.gap0 + v.gap1 + i - 2);
+    }
+
+    // The boards of every row, from the board as it is now; false when a row cannot match.
+    PSC_DEVICE PSC_COLD bool prepare(const Env& e, int ruleOffset) {
+        rule = ruleOffset;
+        rows = kRuleData[rule + 5];
+        const int direction = kRuleData[rule];
+        d = direction == 0 ? 1 : direction == 1 ? -1 : direction == 2 ? columnOf(e) : -columnOf(e);
+        horizontal = direction >= 2;
+        int savedCount = 0;
+        for (int r = 0; r < rows; ++r) {
+            const int* w = kRuleData + row(r);
+            const int cells = w[0];
+            const int prefixEnd = w[1] < 0 ? cells : w[1];
+            Board b = tableCellBoard(e, w[3]);
+            for (int i = 1; i < prefixEnd; ++i) b = b & shiftBy(tableCellBoard(e, w[3 + i]), i * d);
+            rowBoard[r] = b;
+            savedAt[r] = savedCount;
+            for (int i = prefixEnd; i < cells; ++i) {
+                if (w[3 + i] >= 0) saved[savedCount++] = tableCellBoard(e, w[3 + i]);
+            }
+        }
+        for (int r = 0; r < rows; ++r) {
+            if (!rowBoard[r].any()) return false;
+        }
+        return true;
+    }
+
+    PSC_DEVICE PSC_INLINE bool nextStart(int r) {
+        TableRowVisit& v = visit[r];
+        if (!horizontal) {
+            if (!v.rest.any()) return false;
+            v.s = v.rest.lowest();
+            v.rest.dropLowest();
+            return true;
+        }
+        for (;;) {
+            if (!v.more) return false;
+            if (v.inRow.any()) {
+                v.s = v.inRow.lowest();
+                v.inRow.dropLowest();
+                return true;
+            }
+            v.rest = andNot(v.rest, v.mask);
+            v.mask = shiftUp(v.mask, 1);
+            v.more = v.rest.any() && v.mask.any();
+            if (v.more) v.inRow = v.rest & v.mask;
+        }
+    }
+
+    // Whether the saved cells from `first` to `last` (exclusive) of row r hold at their positions.
+    PSC_DEVICE PSC_INLINE bool savedCellsHold(int r, int first, int last) const {
+        const int* w = kRuleData + row(r);
+        int k = savedAt[r];
+        for (int i = w[1]; i < first; ++i) k += w[3 + i] >= 0 ? 1 : 0;
+        for (int i = first; i < last; ++i) {
+            if (w[3 + i] < 0) continue;
+            if (!saved[k++].test(position(r, i))) return false;
+        }
+        return true;
+    }
+
+    // Moves row r to its next match (from its first when `fresh`); false when there is none.
+    PSC_DEVICE PSC_COLD bool advance(const Env& e, int r, bool fresh) {
+        const int* w = kRuleData + row(r);
+        const int cells = w[0];
+        const int ellipses = w[1] < 0 ? 0 : w[2] < 0 ? 1 : 2;
+        TableRowVisit& v = visit[r];
+        int stage = ellipses;
+        if (fresh) {
+            v.rest = rowBoard[r];
+            if (horizontal) {
+                v.mask = e.rowStart;
+                v.more = v.rest.any() && v.mask.any();
+                v.inRow = v.more ? v.rest & v.mask : Board::zero();
+            }
+            stage = 0;
+        }
+        for (;;) {
+            if (stage == 0) {
+                if (!nextStart(r)) return false;
+                if (ellipses == 0) return true;
+                const int length = cells - ellipses;
+                const int x = v.s / columnOf(e);
+                const int y = v.s % columnOf(e);
+                const int direction = kRuleData[rule];
+                v.gapLimit = direction == 0   ? heightOf(e) - (y + length) + 1
+                             : direction == 1 ? y - length + 2
+                             : direction == 2 ? widthOf(e) - (x + length) + 1
+                                              : x - length + 2;
+                v.gap0 = -1;
+                stage = 1;
+            }
+            if (stage == 1) {
+                ++v.gap0;
+                if (v.gap0 >= v.gapLimit) {
+                    stage = 0;
+                    continue;
+                }
+                if (!savedCellsHold(r, w[1] + 1, ellipses == 2 ? w[2] : cells)) continue;
+                if (ellipses == 1) return true;
+                v.gap1 = -1;
+                stage = 2;
+            }
+            ++v.gap1;
+            if (!(v.gap0 + v.gap1 < v.gapLimit && v.gap1 < v.gapLimit)) {
+                stage = 1;
+                continue;
+            }
+            if (savedCellsHold(r, w[2] + 1, cells)) return true;
+        }
+    }
+
+    // The next match of all rows (the first when `fresh`), as the nested loops go.
+    PSC_DEVICE PSC_COLD bool next(const Env& e, bool fresh) {
+        int r = fresh ? rows - 1 : 0;
+        bool first = fresh;
+        for (;;) {
+            if (!advance(e, r, first)) {
+                if (++r == rows) return false;
+                first = false;
+                continue;
+            }
+            if (r == 0) return true;
+            --r;
+            first = true;
+        }
+    }
+
+    // Whether every cell of every row still holds on the current board.
+    PSC_DEVICE PSC_COLD bool holds(const Env& e) const {
+        for (int r = 0; r < rows; ++r) {
+            const int* w = kRuleData + row(r);
+            for (int i = 0; i < w[0]; ++i) {
+                if (w[3 + i] >= 0 && !tableCellHolds(e, w[3 + i], position(r, i))) return false;
+            }
+        }
+        return true;
+    }
+
+    PSC_DEVICE PSC_COLD bool apply(Env& e, Turn& t) const {
+        bool changed = false;
+        for (int r = 0; r < rows; ++r) {
+            const int* w = kRuleData + row(r);
+            for (int i = 0; i < w[0]; ++i) {
+                const int cell = w[3 + i];
+                if (cell >= 0 && kRuleData[cell] >= 0) changed |= tableReplace(e, t, rule, kRuleData[cell], position(r, i));
+            }
+        }
+        return changed;
+    }
+};
+
+// One rule of an ordinary group (RuleCode's tryApply).
+PSC_DEVICE PSC_COLD bool tableApplyRule(Env& e, Turn& t, int rule) {
+    TableMatches m;
+    if (!m.prepare(e, rule)) return false;
+    const int flags = kRuleData[rule + 1];
+    if (!(flags & kTableRuleFlagReplacements)) {
+        if ((flags & kTableRuleFlagEllipses) && !m.next(e, true)) return false;
+        tableQueueCommands(e, rule);
+        return false;
+    }
+    bool changed = false;
+    bool first = true;
+    for (bool more = m.next(e, true); more; more = m.next(e, false)) {
+        if (!first && !m.holds(e)) continue;
+        first = false;
+        changed |= m.apply(e, t);
+    }
+    if (!first) tableQueueCommands(e, rule);
+    return changed;
+}
+
+// The number of a rule's matches (a random group's candidates).
+PSC_DEVICE PSC_COLD long long tableCountMatches(const Env& e, int rule) {
+    TableMatches m;
+    if (!m.prepare(e, rule)) return 0;
+    long long n = 0;
+    if (!(kRuleData[rule + 1] & kTableRuleFlagEllipses)) {
+        n = 1;
+        for (int r = 0; r < m.rows; ++r) n *= static_cast<long long>(m.rowBoard[r].count());
+        return n;
+    }
+    for (bool more = m.next(e, true); more; more = m.next(e, false)) ++n;
+    return n;
+}
+
+// Applies a rule's n-th match (of a random group).
+PSC_DEVICE PSC_COLD bool tableApplyNth(Env& e, Turn& t, int rule, long long n) {
+    TableMatches m;
+    if (!m.prepare(e, rule)) return false;
+    bool changed = false;
+    long long index = 0;
+    for (bool more = m.next(e, true); more; more = m.next(e, false)) {
+        if (index++ == n) {
+            changed = m.apply(e, t);
+            break;
+        }
+    }
+    tableQueueCommands(e, rule);
+    return changed;
+}
+
+// A group of rules kRuleIndex[first .. first + count): passes over its rules
+// until one changes nothing, at most 200; a random group applies one match
+// drawn from all its rules' matches.
+PSC_DEVICE PSC_COLD bool tableApplyGroup(Env& e, Turn& t, int first, int count, bool random) {
+    if (!random) {
+        bool changed = false;
+        for (int pass = 0; pass < 200; ++pass) {
+            bool any = false;
+            for (int i = first; i < first + count; ++i) any |= tableApplyRule(e, t, kRuleIndex[i]);
+            if (!any) break;
+            changed = true;
+        }
+        return changed;
+    }
+#if PSC_USES_RANDOM
+    long long total = 0;
+    for (int i = first; i < first + count; ++i) total += tableCountMatches(e, kRuleIndex[i]);
+    if (total == 0) return false;
+    long long pick = static_cast<long long>(e.rng.uniform() * static_cast<double>(total));
+    for (int i = first; i < first + count; ++i) {
+        const long long matches = tableCountMatches(e, kRuleIndex[i]);
+        if (pick < matches) return tableApplyNth(e, t, kRuleIndex[i], pick);
+        pick -= matches;
+    }
+#endif
+    return false;
+}
+
+}  // namespace psc_game
