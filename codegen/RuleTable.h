@@ -26,7 +26,11 @@ void emitRuleTableData(CodeWriter& out, const ir::Game& game);
 void emitRuleTableGroups(CodeWriter& out, const ir::Game& game);
 
 // Above this much straight-line rule code (RuleCode's text), `auto` picks the
-// table: the system compiler takes about 40 s of one core per megabyte of it.
-constexpr size_t kTableRuleCodeBytes = 1'500'000;
+// table: on the 2-core development machine a CPU plugin at -O2 takes about
+// 100 s of one core per megabyte of it (Two Worlds, 0.60 MB: 60 s; Spooki,
+// 0.39 MB: 27 s), and the bar for any game is 60 s; a CUDA plugin of 0.4 MB
+// takes 35-41 s.  As a table, the largest game (60 MB as code) builds in
+// about 30 s.  Tables step 2-4x slower on the CPU (docs/robustness.md).
+constexpr size_t kTableRuleCodeBytes = 400'000;
 
 }  // namespace psc::codegen

@@ -29,7 +29,7 @@
 #             per GPU) psc bench --devices over 1 and all GPUs (one process), and examples/torchrun_rollout.py
 #             on 1 and all GPUs at the last batch (one process a GPU)
 # FAST_COMPILE sets psc's --fast-compile (compile, prebuild, bench, replay, sanitize);
-# GPU_STATE its --gpu-state (prebuild, bench, replay); RULES its --rules (replay); GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
+# GPU_STATE its --gpu-state (prebuild, bench, replay); RULES its --rules (prebuild, bench, replay); GAMES limits bench to some games; REPLAY_SECONDS bounds each replayed suite,
 # REPLAY_IDS (a file of case ids) limits it to some cases, REPLAY_SUITES to some suites,
 # REPLAY_JOBS sets how many run at once and REPLAY_CASE_SECONDS how long each may take,
 # REPLAY_VERBOSE=1 keeps each case's compile, batch and stepping times in the report;
@@ -85,15 +85,15 @@ for stage in "$@"; do
     prebuild)
         # Builds the benchmark plugins in parallel into the cache that bench reads.
         ls bench/games/*.txt | xargs -P "$jobs" -I{} sh -c 'p=$0 g=$1; shift; "$p" "$g" -o "/tmp/$(basename "$g" .txt).so" --target cuda --levels 0 "$@"' \
-            "$psc" {} "${fast[@]}" "${state[@]}"
+            "$psc" {} "${fast[@]}" "${state[@]}" "${rules[@]}"
         ;;
     bench)
-        dir="$out/bench${GPU_STATE:+-$GPU_STATE}"
+        dir="$out/bench${GPU_STATE:+-$GPU_STATE}${RULES:+-rules-$RULES}"
         mkdir -p "$dir"
         for name in ${GAMES:-$(cd bench/games && ls *.txt | sed 's/.txt$//')}; do
             game=bench/games/$name.txt
             "$psc" bench "$game" --backend cuda --batch "$batches" --repeats 5 --warmup 1 "${fast[@]}" "${state[@]}" \
-                > "$dir/$name.txt" 2>&1
+                "${rules[@]}" > "$dir/$name.txt" 2>&1
             echo "$name: $(tail -1 "$dir/$name.txt")"
         done
         ;;
