@@ -461,8 +461,6 @@ void emitGroup(std::vector<Piece>& pieces, int indent, const Game& g, const ir::
     pieces.push_back({code.text(), {"PSC_DEVICE PSC_RULE bool " + groupName(group, index, late) + "(Env& e, Turn& t);"}});
 }
 
-}  // namespace
-
 void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGroup>& groups,
                     const std::map<int, int>& loops, bool late) {
     const std::string fn = late ? "applyLateRules" : "applyEarlyRules";
@@ -507,6 +505,8 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
     out.close();
     out.line();
 }
+
+}  // namespace
 
 void emitRules(CodeWriter& out, const Game& game, int units) {
     std::vector<Piece> pieces;

@@ -9,7 +9,6 @@
 // Masks are constants in the code; names come from the source line.
 #pragma once
 
-#include <map>
 #include <string>
 #include <vector>
 
@@ -23,11 +22,6 @@ namespace psc::codegen {
 // function is declared for all units and defined in one of units 1..units-1,
 // balanced by code size.
 void emitRules(CodeWriter& out, const ir::Game& game, int units = 1);
-
-// Emits applyEarlyRules or applyLateRules: the groups' functions called in
-// order, with the loops' jumps and (early rules) the rigid bans.
-void emitApplyRules(CodeWriter& out, const ir::Game& game, const std::vector<ir::RuleGroup>& groups,
-                    const std::map<int, int>& loops, bool late);
 
 // The distinct texts of the rules' `message` commands, early rules then late
 // ones in source order: psc_game_info.rule_messages, which step results index.

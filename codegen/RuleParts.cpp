@@ -40,15 +40,20 @@ std::vector<MovementUpdate> movementUpdates(const ir::Game& g, const ir::Replace
     return out;
 }
 
+int rigidGroupClaim(const ir::Game& g, const ir::Rule& rule) {
+    if (!rule.rigid) return 0;
+    auto it = g.groupNumberToRigidGroupIndex.find(rule.groupNumber);
+    return it == g.groupNumberToRigidGroupIndex.end() ? 0 : it->second + 1;
+}
+
 RigidClaim rigidClaim(const ir::Game& g, const ir::Rule& rule, const ir::Replacement& r) {
     RigidClaim out;
-    if (!rule.rigid) return out;
-    auto it = g.groupNumberToRigidGroupIndex.find(rule.groupNumber);
-    if (it == g.groupNumberToRigidGroupIndex.end()) return out;
+    const int claim = rigidGroupClaim(g, rule);
+    if (claim == 0) return out;
     for (int L = 0; L < g.layerCount; ++L) {
         if (r.movementsLayerMask.field(L)) out.layers.push_back(L);
     }
-    if (!out.layers.empty()) out.claim = it->second + 1;
+    if (!out.layers.empty()) out.claim = claim;
     return out;
 }
 

@@ -45,6 +45,8 @@ struct RigidClaim {
     std::vector<int> layers;
 };
 RigidClaim rigidClaim(const ir::Game& game, const ir::Rule& rule, const ir::Replacement& r);
+// The rigid group's index + 1 of a rigid rule, else 0.
+int rigidGroupClaim(const ir::Game& game, const ir::Rule& rule);
 
 // The layer of object `id` (a ghost object's live object's), or -1.
 int layerOfObject(const ir::Game& game, int id);

@@ -45,13 +45,9 @@ public:
             for (const auto& c : row) ellipses = ellipses || c.ellipsis;
         }
         flags |= ellipses ? 2 : 0;
-        int claim = 0;
-        if (rule.rigid) {
-            auto it = g_.groupNumberToRigidGroupIndex.find(rule.groupNumber);
-            if (it != g_.groupNumberToRigidGroupIndex.end()) claim = it->second + 1;
-        }
         std::vector<int> record = {directionCode(rule.direction), flags, static_cast<int>(commandBits(rule)),
-                                   messageIndex(rule, messages_), claim, static_cast<int>(rule.rows.size())};
+                                   messageIndex(rule, messages_), rigidGroupClaim(g_, rule),
+                                   static_cast<int>(rule.rows.size())};
         for (const auto& row : rule.rows) record.push_back(addRow(rule, row));
         maxRows_ = std::max(maxRows_, static_cast<int>(rule.rows.size()));
         int saved = 0;
@@ -212,27 +208,37 @@ void emitRuleTableData(CodeWriter& out, const Game& game) {
     }
     if (ruleOffsets.empty()) out.line("    0");
     out.line("};");
+    int first = 0;
+    for (const bool late : {false, true}) {
+        const auto& groups = late ? game.lateRules : game.rules;
+        const auto& loops = late ? game.lateLoopPoints : game.loopPoints;
+        const std::string name = late ? "kLateGroups" : "kEarlyGroups";
+        out.line(fmt::format("constexpr int {} = {};", late ? "kLateGroupCount" : "kEarlyGroupCount", groups.size()));
+        if (!late) out.line("// Each group: first rule (kRuleIndex), rules, random, rigid group (-1: none), loop back to (-1: none).");
+        out.line("PSC_TABLE int " + name + "[] = {");
+        for (size_t i = 0; i < groups.size(); ++i) {
+            const auto& group = groups[i];
+            int rigid = -1;
+            if (!late) {
+                auto it = game.groupIndexToRigidGroupIndex.find(static_cast<int>(i));
+                if (it != game.groupIndexToRigidGroupIndex.end()) rigid = it->second;
+            }
+            auto loop = loops.find(static_cast<int>(i));
+            const int count = static_cast<int>(group.rules.size());
+            out.line(fmt::format("    {}, {}, {}, {}, {},  // group {} (line {})", first, count, group.random ? 1 : 0, rigid,
+                                 loop == loops.end() ? -1 : loop->second, i, group.groupNumber));
+            first += count;
+        }
+        if (groups.empty()) out.line("    0");
+        out.line("};");
+    }
     out.line();
 }
 
 void emitRuleTableGroups(CodeWriter& out, const Game& game) {
-    int first = 0;
-    for (const bool late : {false, true}) {
-        const auto& groups = late ? game.lateRules : game.rules;
-        for (size_t i = 0; i < groups.size(); ++i) {
-            const auto& group = groups[i];
-            const int count = static_cast<int>(group.rules.size());
-            out.line(fmt::format("// group {} (line {}): {} rule{}{}", i, group.groupNumber, count, count == 1 ? "" : "s",
-                                 group.random ? ", random" : ""));
-            out.open("PSC_DEVICE PSC_RULE bool " + groupName(group, i, late) + "(Env& e, Turn& t)");
-            out.line(fmt::format("return tableApplyGroup(e, t, {}, {}, {});", first, count, group.random ? "true" : "false"));
-            out.close();
-            first += count;
-        }
-    }
+    out.line("PSC_DEVICE PSC_TURN void applyEarlyRules(Env& e, Turn& t) { tableApplyGroups(e, t, kEarlyGroups, kEarlyGroupCount); }");
+    out.line("PSC_DEVICE PSC_TURN void applyLateRules(Env& e, Turn& t) { tableApplyGroups(e, t, kLateGroups, kLateGroupCount); }");
     out.line();
-    emitApplyRules(out, game, game.rules, game.loopPoints, false);
-    emitApplyRules(out, game, game.lateRules, game.lateLoopPoints, true);
 }
 
 }  // namespace psc::codegen

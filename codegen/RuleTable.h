@@ -4,8 +4,8 @@
 // largest corpus games expand to tens of thousands of rules: tens of
 // megabytes of C++ that no compiler finishes within minutes.  In this form
 // each rule is a record of one table (kRuleData) that a fixed interpreter
-// (templates/rule_table.h) walks; the groups' functions and the turn's call
-// sequence stay code.  Both forms do the same things in the same order, so a
+// (templates/rule_table.h) walks, and so are the groups, their order, rigid
+// bans and loops: the code does not grow with the game.  Both forms do the same things in the same order, so a
 // game steps bit for bit alike in either; this one is slower per rule and
 // compiles in seconds.
 #pragma once
@@ -19,10 +19,11 @@
 namespace psc::codegen {
 
 // kTableMaxRows, kTableMaxSavedCells, kLayerObjectStart, kLayerObjects,
-// kRuleData and kRuleIndex: what templates/rule_table.h reads.
+// kRuleData, kRuleIndex, kEarlyGroups and kLateGroups (the groups, their
+// rigid bans and loops): what templates/rule_table.h reads.
 void emitRuleTableData(CodeWriter& out, const ir::Game& game);
 
-// The groups' functions over the table, and applyEarlyRules/applyLateRules.
+// applyEarlyRules and applyLateRules over the table.
 void emitRuleTableGroups(CodeWriter& out, const ir::Game& game);
 
 // Above this much straight-line rule code (RuleCode's text), `auto` picks the

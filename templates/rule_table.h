@@ -6,7 +6,8 @@
 // boards, the same scan order, the same re-checks, changes and random draws,
 // so both forms step bit for bit alike.  Slower per rule, but its code does
 // not grow with the game.  Included after the game's tables (kRuleData,
-// kLayerObjects) and before the groups' functions.
+// kLayerObjects, kEarlyGroups, kLateGroups); the turn's applyEarlyRules and
+// applyLateRules call tableApplyGroups.
 //
 // Records (offsets are indices into kRuleData):
 //   rule: direction (0 down, 1 up, 2 right, 3 left), flags (1 replacements,
@@ -415,6 +416,30 @@ PSC_DEVICE PSC_COLD bool tableApplyGroup(Env& e, Turn& t, int first, int count, 
     }
 #endif
     return false;
+}
+
+// The groups of kEarlyGroups or kLateGroups in order (RuleCode's
+// applyEarlyRules and applyLateRules): five numbers a group, its first rule
+// in kRuleIndex, its rule count, whether it is random, its rigid group (-1:
+// none; a banned one is skipped) and the group its loop goes back to from it
+// (-1: none), taken when a group since the last jump changed something.
+PSC_DEVICE PSC_COLD void tableApplyGroups(Env& e, Turn& t, const int* groups, int count) {
+    int i = 0;
+    bool propagated = false;
+    int jumps = 0;
+    while (i < count) {
+        const int* g = groups + 5 * i;
+        const bool banned = g[3] >= 0 && ((t.banned >> g[3]) & 1u) != 0;
+        const bool ran = !banned && tableApplyGroup(e, t, g[0], g[1], g[2] != 0);
+        propagated = ran || propagated;
+        if (propagated && g[4] >= 0) {
+            i = g[4];
+            propagated = false;
+            if (++jumps > 200) break;
+            continue;
+        }
+        ++i;
+    }
 }
 
 }  // namespace psc_game

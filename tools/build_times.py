@@ -3,12 +3,14 @@
 (docs/robustness.md): the rule form `auto` picks for each, and the wall time
 and peak memory of `psc GAME -o PLUGIN --target cpu|cuda` with an empty cache.
 
-  tools/build_times.py run [--psc P] [--corpus C] [--largest N] [--targets cpu,cuda] [--jobs J] --json R.json
+  tools/build_times.py run [--psc P] [--corpus C] [--largest N] [--code-games M] [--targets cpu,cuda] [--jobs J] --json R.json
   tools/build_times.py render R.json            a Markdown table of R.json
 
 Games are taken once each (by text) from the corpus's traces, ranked by the
-size of their rules as straight-line code (`psc GAME --emit cpp --rules
-code`, measured J at a time); the builds then run one at a time."""
+size of their source with the rules as straight-line code (`psc GAME --emit
+cpp --rules code`, measured J at a time): the N largest, then the M largest
+of those `auto` still writes as code (the slowest builds of that form).
+The builds run one at a time."""
 import argparse
 import concurrent.futures
 import hashlib
@@ -39,6 +41,11 @@ def code_bytes(psc, path):
     return len(r.stdout) if r.returncode == 0 else 0
 
 
+def auto_writes_table(psc, path):
+    r = subprocess.run([psc, path, "--emit", "cpp", "--keep-going"], capture_output=True, text=True, timeout=600)
+    return "PSC_TABLE int kRuleData[]" in r.stdout
+
+
 def build(psc, path, target, tmp):
     cache = tempfile.mkdtemp(dir=tmp)
     command = ["/usr/bin/time", "-f", "maxrss_kb=%M", psc, path, "-o", os.path.join(cache, "plugin.so"),
@@ -65,9 +72,11 @@ def run(a):
             paths.append((game_id, path))
         with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
             sizes = list(pool.map(lambda p: code_bytes(a.psc, p[1]), paths))
-        ranked = sorted(zip(sizes, paths), key=lambda s: -s[0])[: a.largest]
+        ranked = sorted(zip(sizes, paths), key=lambda s: -s[0])
+        chosen = ranked[: a.largest]
+        code_games = [r for r in ranked[a.largest:] if not auto_writes_table(a.psc, r[1][1])][: a.code_games] if a.code_games else []
         rows = []
-        for size, (game_id, path) in ranked:
+        for size, (game_id, path) in chosen + code_games:
             row = {"game": game_id, "code_mb": round(size / 1e6, 2)}
             for target in a.targets.split(","):
                 row[target] = build(a.psc, path, target, tmp)
@@ -102,6 +111,7 @@ def main():
     r.add_argument("--psc", default="build/cli/psc")
     r.add_argument("--corpus", default="../shared/corpus")
     r.add_argument("--largest", type=int, default=20)
+    r.add_argument("--code-games", type=int, default=0)
     r.add_argument("--targets", default="cpu,cuda")
     r.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     r.add_argument("--json", required=True)

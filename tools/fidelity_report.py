@@ -9,7 +9,8 @@
 trace on the CPU, writing one JSON report per check into DIR (default
 docs/results/fidelity).  The GPU's reports come from the device machine:
 `tools/gpu_check.sh replay` writes testsuite_cuda.json and scraped_cuda.json,
-to be copied into DIR as replay-cuda-testsuite.json and replay-cuda-scraped.json.
+to be copied into DIR as replay-cuda-testsuite.json and replay-cuda-scraped.json
+(replay-BACKEND-rules-table-SUITE.json: a replay with `--rules table`).
 CTest's corpus-replay-testsuite and corpus-replay-scraped-sample write the
 CPU's reports of their runs into the build folder as well.
 `render` writes the page from whatever reports DIR holds, each table with the
@@ -35,6 +36,10 @@ FRONTEND_CHECKS = [
     ("compiled", "`--emit ir --format reference` equal to the reference compiler's dump (objects, ids, layers, "
                  "every rule in execution order, loop points, win conditions)", 99.0),
 ]
+# Reports of psc's default options, then of the rules forced into the table
+# form (`--rules table`, files replay-BACKEND-rules-table-SUITE.json).
+VARIANTS = [("cpu", ""), ("cuda", ""), ("cpu", "-rules-table"), ("cuda", "-rules-table")]
+VARIANT_LABELS = {"": "", "-rules-table": ", `--rules table`"}
 REPLAY_BARS = {("testsuite", "cpu"): 99.0, ("scraped", "cpu"): 97.0, ("testsuite", "cuda"): 99.0, ("scraped", "cuda"): 97.0}
 
 
@@ -108,25 +113,26 @@ def render(a):
     corpus_cases = Counter(e["suite"] for e in load_index(a.corpus) if e["kind"] == "trace") \
         if os.path.exists(os.path.join(a.corpus, "INDEX.json")) else Counter()
     rows, sources, causes = [], [], []
-    for backend in ("cpu", "cuda"):
+    for backend, variant in VARIANTS:
         for suite in ("testsuite", "scraped"):
-            path = os.path.join(results, f"replay-{backend}-{suite}.json")
+            path = os.path.join(results, f"replay-{backend}{variant}-{suite}.json")
             if not os.path.exists(path):
                 continue
+            label = backend.upper() + VARIANT_LABELS[variant]
             report = json.load(open(path))
             cases = report["cases"]
             status = Counter(c["status"] for c in cases)
             public = corpus_cases.get(suite, 0)
             replayed = f"{len(cases)}" + (f" of {public}" if public else "")
             other = len(cases) - sum(status[s] for s in ("pass", "mismatch", "error", "timeout"))
-            rows.append(f"| {suite} | {backend.upper()} | {replayed} | {status['pass']} | "
+            rows.append(f"| {suite} | {label} | {replayed} | {status['pass']} | "
                         f"{percent(status['pass'], len(cases))} | {status['mismatch']} | {status['error']} | "
                         f"{status['timeout']} | {other} | ≥ {REPLAY_BARS[(suite, backend)]:g} % |")
-            sources.append(f"- {suite}, {backend.upper()}: {provenance_line(report)}")
+            sources.append(f"- {suite}, {label}: {provenance_line(report)}")
             grouped = Counter((c["status"], cause(c)) for c in cases if c["status"] != "pass")
             for (s, why), n in grouped.most_common():
                 example = next(c["id"] for c in cases if c["status"] == s and cause(c) == why)
-                causes.append(f"| {suite} | {backend.upper()} | {s} | {n} | {why} | `{example}` |")
+                causes.append(f"| {suite} | {label} | {s} | {n} | {why} | `{example}` |")
     if rows:
         lines += ["## Replays", "",
                   para("Every recorded input of a trace is replayed with `psc replay` (one process per case, its plugin "
