@@ -628,7 +628,7 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
         out.raw(templates::ruleTable());
         out.line();
         out.open("namespace psc_game");
-        emitRuleTableGroups(out, game);
+        emitRuleTableGroups(out);
     } else {
         emitRules(out, game, options.target == "cpu" ? 1 : gpu.units);
     }

@@ -235,7 +235,7 @@ void emitRuleTableData(CodeWriter& out, const Game& game) {
     out.line();
 }
 
-void emitRuleTableGroups(CodeWriter& out, const Game& game) {
+void emitRuleTableGroups(CodeWriter& out) {
     out.line("PSC_DEVICE PSC_TURN void applyEarlyRules(Env& e, Turn& t) { tableApplyGroups(e, t, kEarlyGroups, kEarlyGroupCount); }");
     out.line("PSC_DEVICE PSC_TURN void applyLateRules(Env& e, Turn& t) { tableApplyGroups(e, t, kLateGroups, kLateGroupCount); }");
     out.line();

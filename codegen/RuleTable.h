@@ -24,14 +24,16 @@ namespace psc::codegen {
 void emitRuleTableData(CodeWriter& out, const ir::Game& game);
 
 // applyEarlyRules and applyLateRules over the table.
-void emitRuleTableGroups(CodeWriter& out, const ir::Game& game);
+void emitRuleTableGroups(CodeWriter& out);
 
 // Above this much straight-line rule code (RuleCode's text), `auto` picks the
 // table: on the 2-core development machine a CPU plugin at -O2 takes about
-// 100 s of one core per megabyte of it (Two Worlds, 0.60 MB: 60 s; Spooki,
-// 0.39 MB: 27 s), and the bar for any game is 60 s; a CUDA plugin of 0.4 MB
-// takes 35-41 s.  As a table, the largest game (60 MB as code) builds in
-// about 30 s.  Tables step 2-4x slower on the CPU (docs/robustness.md).
+// 100 s of one core per megabyte of it (Spooki, 0.36 MB: 24 s; Witch Lifter,
+// 0.35 MB: 31 s; Two Worlds, 0.60 MB: 60 s with --rules code), the bar for
+// any game is 60 s, and a CUDA plugin of 0.35 MB takes 36-37 s.  As a table,
+// the largest game (55 MB of rule code) builds in 18 s (CPU) and 23 s (CUDA).
+// Tables step 2-4x slower on one CPU thread, 0.9-1x as fast on the GPU's
+// memory layout (docs/robustness.md, docs/performance.md).
 constexpr size_t kTableRuleCodeBytes = 400'000;
 
 }  // namespace psc::codegen

@@ -3,14 +3,14 @@
 (docs/robustness.md): the rule form `auto` picks for each, and the wall time
 and peak memory of `psc GAME -o PLUGIN --target cpu|cuda` with an empty cache.
 
-  tools/build_times.py run [--psc P] [--corpus C] [--largest N] [--code-games M] [--targets cpu,cuda] [--jobs J] --json R.json
+  tools/build_times.py run [--psc P] [--corpus C] [--largest N] [--code-games M] [--ids ID ...] [--targets cpu,cuda] [--jobs J] --json R.json
   tools/build_times.py render R.json            a Markdown table of R.json
 
 Games are taken once each (by text) from the corpus's traces, ranked by the
 size of their source with the rules as straight-line code (`psc GAME --emit
 cpp --rules code`, measured J at a time): the N largest, then the M largest
-of those `auto` still writes as code (the slowest builds of that form).
-The builds run one at a time."""
+of those `auto` still writes as code, then the games of the cases --ids
+names.  The builds run one at a time."""
 import argparse
 import concurrent.futures
 import hashlib
@@ -75,8 +75,9 @@ def run(a):
         ranked = sorted(zip(sizes, paths), key=lambda s: -s[0])
         chosen = ranked[: a.largest]
         code_games = [r for r in ranked[a.largest:] if not auto_writes_table(a.psc, r[1][1])][: a.code_games] if a.code_games else []
+        named = [r for r in ranked if r[1][0] in (a.ids or [])]
         rows = []
-        for size, (game_id, path) in chosen + code_games:
+        for size, (game_id, path) in chosen + code_games + named:
             row = {"game": game_id, "code_mb": round(size / 1e6, 2)}
             for target in a.targets.split(","):
                 row[target] = build(a.psc, path, target, tmp)
@@ -112,6 +113,7 @@ def main():
     r.add_argument("--corpus", default="../shared/corpus")
     r.add_argument("--largest", type=int, default=20)
     r.add_argument("--code-games", type=int, default=0)
+    r.add_argument("--ids", nargs="*", help="also these cases' games (corpus case ids)")
     r.add_argument("--targets", default="cpu,cuda")
     r.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     r.add_argument("--json", required=True)
