@@ -26,7 +26,16 @@ SOKOBAN = os.path.join(GAMES, "sokoban.txt")
 # kick.txt level 1 is #P.o...G#: two steps right kick the ball, which rolls a cell per again turn into the goal.
 KICK = os.path.join(GAMES, "kick.txt")
 # Level 0 of sokoban.txt: the player goes round the crate's left and pushes it right onto the target.
-LEVEL0_SOLUTION = ["Left", "Left", "Up", "Right"]
+HAND_SOLUTION = ["Left", "Left", "Up", "Right"]
+
+
+def solver_solution():
+    """psc solve's shortest solution of sokoban.txt level 0, as tmux key names (the issue's bar types it)."""
+    r = subprocess.run([PSC, "solve", SOKOBAN, "--level", "0", "--format", "json", "--quiet"],
+                       capture_output=True, text=True, timeout=600)
+    record = json.loads(r.stdout.splitlines()[0]) if r.stdout.strip() else {}
+    keys = {"u": "Up", "d": "Down", "l": "Left", "r": "Right", "x": "x"}
+    return [keys[c] for c in record.get("solution") or ""]
 LEVEL0_START = ["#######", "#.....#", "#.*O..#", "#..P..#", "#######"]
 
 STATE = tempfile.mkdtemp(prefix="psc-play-test-")
@@ -204,6 +213,9 @@ def main():
     # Builds the plugin once (cached after), so that the timed waits below measure psc play itself.
     warm = scripted("--level", "0", timeout=600)
     check(warm.returncode == 0, "--scripted with no keys exits 0", warm.stderr.decode())
+    solution = solver_solution()
+    check(len(solution) == len(HAND_SOLUTION), "psc solve finds a shortest solution of level 1",
+          f"{solution} against the hand-checked {HAND_SOLUTION}")
 
     pane = Pane()
     try:
@@ -216,7 +228,7 @@ def main():
         pane.keys("Enter")
         check(pane.wait_for(lambda s: "level 1 of 3" in s.split("\n")[0], "level 1"), "X closes the message: level 1 of 3")
         check(any("\u2580" in l for l in pane.lines()), "the level is drawn with half-block sprites")
-        pane.keys(*LEVEL0_SOLUTION)
+        pane.keys(*solution)
         check(pane.wait_for(lambda s: "level 2 of 3" in s.split("\n")[0], "level 2"),
               "the solution typed as arrow keys moves on to level 2", pane.screen())
         pane.keys("q")
