@@ -320,15 +320,6 @@ void emitRowSetup(CodeWriter& out, const Rule& rule, const std::string& noMatch)
     out.line("if (" + joinWith(empty, " || ") + ") return " + noMatch + ";");
 }
 
-bool hasEllipsis(const Rule& rule) {
-    for (const auto& row : rule.rows) {
-        for (const auto& c : row) {
-            if (c.ellipsis) return true;
-        }
-    }
-    return false;
-}
-
 void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames& names, bool inRandomGroup,
               const std::vector<std::string>& messages) {
     out.line("// line " + std::to_string(rule.line) + ": " + ir::ruleText(g, rule));
@@ -554,11 +545,8 @@ std::vector<std::string> ruleMessages(const Game& game) {
     for (const auto* groups : {&game.rules, &game.lateRules}) {
         for (const auto& group : *groups) {
             for (const auto& rule : group.rules) {
-                for (const auto& c : rule.commands) {
-                    if (c.name != "message") continue;
-                    if (std::find(texts.begin(), texts.end(), c.message) == texts.end()) texts.push_back(c.message);
-                    break;
-                }
+                const std::string* message = messageOf(rule);
+                if (message && std::find(texts.begin(), texts.end(), *message) == texts.end()) texts.push_back(*message);
             }
         }
     }

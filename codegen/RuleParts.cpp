@@ -79,13 +79,27 @@ uint32_t commandBits(const ir::Rule& rule) {
     return bits;
 }
 
-int messageIndex(const ir::Rule& rule, const std::vector<std::string>& messages) {
-    for (const auto& c : rule.commands) {
-        if (c.name != "message") continue;
-        const auto at = std::find(messages.begin(), messages.end(), c.message);
-        return at == messages.end() ? -1 : static_cast<int>(at - messages.begin());
+bool hasEllipsis(const ir::Rule& rule) {
+    for (const auto& row : rule.rows) {
+        for (const auto& c : row) {
+            if (c.ellipsis) return true;
+        }
     }
-    return -1;
+    return false;
+}
+
+const std::string* messageOf(const ir::Rule& rule) {
+    for (const auto& c : rule.commands) {
+        if (c.name == "message") return &c.message;
+    }
+    return nullptr;
+}
+
+int messageIndex(const ir::Rule& rule, const std::vector<std::string>& messages) {
+    const std::string* message = messageOf(rule);
+    if (!message) return -1;
+    const auto at = std::find(messages.begin(), messages.end(), *message);
+    return at == messages.end() ? -1 : static_cast<int>(at - messages.begin());
 }
 
 std::string groupName(const ir::RuleGroup& group, size_t index, bool late) {

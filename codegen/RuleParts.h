@@ -54,6 +54,12 @@ int layerOfObject(const ir::Game& game, int id);
 // The rule's commands as templates/core.h's Command bits.
 uint32_t commandBits(const ir::Rule& rule);
 
+// Whether a row of the rule has an ellipsis.
+bool hasEllipsis(const ir::Rule& rule);
+
+// The text of the rule's (first) `message` command, or null.
+const std::string* messageOf(const ir::Rule& rule);
+
 // The index of the rule's `message` text in `messages` (ruleMessages), or -1.
 int messageIndex(const ir::Rule& rule, const std::vector<std::string>& messages);
 

@@ -39,12 +39,7 @@ public:
 
     // Appends a rule's records; returns its offset.
     int addRule(const Rule& rule) {
-        int flags = rule.hasReplacements ? 1 : 0;
-        bool ellipses = false;
-        for (const auto& row : rule.rows) {
-            for (const auto& c : row) ellipses = ellipses || c.ellipsis;
-        }
-        flags |= ellipses ? 2 : 0;
+        const int flags = (rule.hasReplacements ? 1 : 0) | (hasEllipsis(rule) ? 2 : 0);
         std::vector<int> record = {directionCode(rule.direction), flags, static_cast<int>(commandBits(rule)),
                                    messageIndex(rule, messages_), rigidGroupClaim(g_, rule),
                                    static_cast<int>(rule.rows.size())};

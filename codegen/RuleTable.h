@@ -5,9 +5,9 @@
 // megabytes of C++ that no compiler finishes within minutes.  In this form
 // each rule is a record of one table (kRuleData) that a fixed interpreter
 // (templates/rule_table.h) walks, and so are the groups, their order, rigid
-// bans and loops: the code does not grow with the game.  Both forms do the same things in the same order, so a
-// game steps bit for bit alike in either; this one is slower per rule and
-// compiles in seconds.
+// bans and loops: the code does not grow with the game.  Both forms do the
+// same things in the same order, so a game steps bit for bit alike in
+// either; this one is slower per rule and compiles in seconds.
 #pragma once
 
 #include <cstddef>
