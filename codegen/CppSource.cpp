@@ -683,37 +683,36 @@ std::string cudaSource(const ir::Game& game, const SourceOptions& options) {
 }
 
 namespace {
-// What every plugin starts with: the ABI header, the game's engine code and
-// its static description.
-void emitPluginPrologue(CodeWriter& out, const ir::Game& game, const SourceOptions& options) {
-    out.raw(header(game, options, options.target == "cpu" ? "cpp" : ""));
+// A plugin's source: the ABI header, the game's engine code, its static
+// description and the game module that the plugin host (runtime/plugin_host,
+// linked in) drives; with the CUDA backend, the device code's declarations.
+std::string pluginSource(const ir::Game& game, const SourceOptions& options) {
+    const bool cuda = options.target != "cpu";
+    CodeWriter out;
+    out.raw(header(game, options, cuda ? "" : "cpp"));
     out.raw(templates::pluginHeader());
+    out.line();
+    out.raw(templates::gameModuleHeader());
     out.line();
     out.raw(deviceSource(game, options));
     out.line();
-    out.line(fmt::format("// The host side: compile unit 0 of {} (templates/core.h).", hostCompileUnits(game, options)));
+    out.line(fmt::format("// The game module: compile unit 0 of {} (templates/core.h).", hostCompileUnits(game, options)));
     out.raw("#if PSC_COMPILES_UNIT(0)\n");
     emitHostInfo(out, game, options);
-    out.raw(templates::hostPrelude());
+    if (cuda) {
+        out.line("// ---- the game's device code, compiled for CUDA, is defined by a second source");
+        out.line("// (deviceCodeSource), compiled once NVRTC is done: this one compiles meanwhile.");
+        out.raw(kDeviceCodeDeclarations);
+    }
+    out.line(fmt::format("#define PSC_PLUGIN_DEVICE_CODE {}", cuda ? 1 : 0));
     out.line();
-}
-}  // namespace
-
-std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options) {
-    CodeWriter out;
-    emitPluginPrologue(out, game, options);
-    out.line("// ---- the game's device code, compiled for CUDA, is defined by a second source");
-    out.line("// (deviceCodeSource), compiled once NVRTC is done: this one compiles meanwhile.");
-    out.raw(kDeviceCodeDeclarations);
-    out.line();
-    out.raw(templates::hostCuda());
-    out.line();
-    out.raw(templates::host());
-    out.line();
-    out.raw(templates::hostCudaImpl());
+    out.raw(templates::gameModule());
     out.raw("#endif  // compile unit 0\n");
     return out.text();
 }
+}  // namespace
+
+std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options) { return pluginSource(game, options); }
 
 std::string deviceCodeSource(const DeviceCodeFiles& device) {
     CodeWriter out;
@@ -736,14 +735,6 @@ std::string deviceCodeSource(const DeviceCodeFiles& device) {
     return out.text();
 }
 
-std::string cpuPluginSource(const ir::Game& game, const SourceOptions& options) {
-    CodeWriter out;
-    emitPluginPrologue(out, game, options);
-    out.raw(templates::hostNoCuda());
-    out.line();
-    out.raw(templates::host());
-    out.raw("#endif  // compile unit 0\n");
-    return out.text();
-}
+std::string cpuPluginSource(const ir::Game& game, const SourceOptions& options) { return pluginSource(game, options); }
 
 }  // namespace psc::codegen

@@ -56,7 +56,8 @@ RuleFormChoice ruleForm(const ir::Game& game, const SourceOptions& options);
 
 // The part that runs per environment (host and device): tables, rules, engine.
 std::string deviceSource(const ir::Game& game, const SourceOptions& options);
-// The complete C++ translation unit of a CPU plugin.
+// The C++ translation unit of a CPU plugin: the game's code and its game
+// module, which the plugin host (runtime/plugin_host) drives once linked.
 std::string cpuPluginSource(const ir::Game& game, const SourceOptions& options);
 // The CUDA translation unit: the device part and the kernels (for NVRTC or nvcc).
 std::string cudaSource(const ir::Game& game, const SourceOptions& options);
@@ -70,8 +71,9 @@ struct DeviceCodeFiles {
     size_t stackBytes = 0;         // per thread, a bound on the kernels' call stacks
 };
 // The host translation unit of a plugin with both backends, which compiles
-// while NVRTC does: it declares the device code, which deviceCodeSource
-// defines (the two are linked into one plugin).
+// while NVRTC does: cpuPluginSource's, declaring the device code, which
+// deviceCodeSource defines (the two and the plugin host are linked into one
+// plugin).
 std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options);
 std::string deviceCodeSource(const DeviceCodeFiles& device);
 

@@ -11,12 +11,9 @@ const std::string& movement();      // templates/movement.h
 const std::string& engine();        // templates/engine.h
 const std::string& ruleTable();     // templates/rule_table.h
 const std::string& stateKey();      // templates/state_key.h
-const std::string& hostPrelude();   // templates/host_prelude.h
-const std::string& hostNoCuda();    // templates/host_nocuda.h
-const std::string& host();          // templates/host.h
-const std::string& hostCuda();      // templates/host_cuda.h
-const std::string& hostCudaImpl();  // templates/host_cuda_impl.h
+const std::string& gameModule();    // templates/game_module.h
 const std::string& cudaKernels();   // templates/cuda_kernels.h
 const std::string& pluginHeader();  // runtime/psc_plugin.h
+const std::string& gameModuleHeader();  // runtime/plugin_host/GameModule.h
 
 }  // namespace psc::codegen::templates

@@ -21,6 +21,7 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include "InstallPaths.h"
 #include "NvrtcModule.h"
 
 namespace psc {
@@ -35,12 +36,6 @@ std::string readAll(const fs::path& p) {
     return ss.str();
 }
 
-std::string executableDir() {
-    std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    return ec ? std::string() : exe.parent_path().string();
-}
-
 struct LoadedNvrtc {
     const NvrtcModule* module = nullptr;
     std::string problem;  // why module is null
@@ -51,8 +46,7 @@ const LoadedNvrtc& nvrtcModule() {
     static const LoadedNvrtc loaded = [] {
         LoadedNvrtc l;
 #if PSC_HAVE_NVRTC
-        const fs::path module = fs::path(executableDir()) / kNvrtcModuleDir / kNvrtcModuleFile;
-        const std::string path = module.lexically_normal().string();
+        const std::string path = (fs::path(pscLibraryDir()) / kNvrtcModuleFile).string();
         std::error_code ec;
         if (!fs::exists(path, ec)) {
             l.problem = "psc's NVRTC module is not installed (" + path + ")";

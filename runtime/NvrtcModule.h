@@ -25,11 +25,8 @@ struct NvrtcModule {
                     CudaCompileResult& r);
 };
 
-// The module's file name, and the folder it is in relative to the folder of
-// the executable that loads it (bin/ when installed, cli/ or tests/ in the
-// build tree, where the module is built into <build>/lib/psc).
+// The module's file name, in psc's library folder (InstallPaths.h).
 constexpr const char* kNvrtcModuleFile = "libpsc_nvrtc.so";
-constexpr const char* kNvrtcModuleDir = "../lib/psc";
 constexpr const char* kNvrtcModuleEntry = "psc_nvrtc_module";
 
 }  // namespace psc

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "ChildProcess.h"
+#include "InstallPaths.h"
 #include "base/Sha1.h"
 
 namespace psc {
@@ -41,7 +42,7 @@ bool writeText(const fs::path& p, const std::string& text) {
 }
 
 std::string readFile(const fs::path& p) {
-    std::ifstream in(p);
+    std::ifstream in(p, std::ios::binary);
     std::stringstream ss;
     ss << in.rdbuf();
     return ss.str();
@@ -104,7 +105,13 @@ PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options,
     if (options.native) flags_ += " -march=native";
     const int units = std::max(1, options.units);
     dir_ = options.cacheDir.empty() ? defaultCacheDir() : options.cacheDir;
-    key_ = sha1Hex(fmt::format("{}\n{}\n{}\n{}\n{}", compiler_, flags_, units, extraKey, source));
+    host_ = options.hostLibrary.empty() ? (fs::path(pscLibraryDir()) / kPluginHostFile).string() : options.hostLibrary;
+    const std::string hostBytes = readFile(host_);
+    if (hostBytes.empty()) {
+        fail("psc's plugin host library, which every plugin links, is not installed (" + host_ + ")");
+        return;
+    }
+    key_ = sha1Hex(fmt::format("{}\n{}\n{}\n{}\n{}\n{}", compiler_, flags_, units, extraKey, sha1Hex(hostBytes), source));
     result_.pluginPath = (dir_ / (key_ + ".so")).string();
     std::error_code ec;
     if (fs::exists(result_.pluginPath, ec)) {
@@ -134,7 +141,9 @@ PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options,
     const int processes = static_cast<int>(std::min<unsigned>(cores, static_cast<unsigned>(units)));
     if (processes == 1 && extraKey.empty()) {
         // Compiled and linked at once.
-        addStep(compileCommand({"-shared", "-o", (dir_ / (unique_ + ".so")).string(), source_.string()}));
+        std::vector<std::string> arguments = {"-shared", "-o", (dir_ / (unique_ + ".so")).string(), source_.string()};
+        for (const auto& a : hostLinkArguments()) arguments.push_back(a);
+        addStep(compileCommand(arguments));
         linkedAtOnce_ = true;
     } else if (processes == 1) {
         addObject(source_, {});
@@ -150,6 +159,12 @@ PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options,
 PluginBuild::~PluginBuild() {
     for (auto& step : steps_) step.running = RunningChild();
     cleanUp();
+}
+
+// The whole host archive: nothing in the game's code calls the ABI functions
+// it exports, so the linker would otherwise leave them out.
+std::vector<std::string> PluginBuild::hostLinkArguments() const {
+    return {"-Wl,--whole-archive", host_, "-Wl,--no-whole-archive"};
 }
 
 void PluginBuild::fail(const std::string& why) {
@@ -213,6 +228,7 @@ BuildResult PluginBuild::finish(const std::string& lateSource) {
         for (const auto& a : {"-shared", "-pthread", "-o"}) link.push_back(a);
         link.push_back(tmp.string());
         for (const auto& o : objects_) link.push_back(o.string());
+        for (const auto& a : hostLinkArguments()) link.push_back(a);
         addStep(std::move(link));
         runLast();
         ok = steps_.back().result.ok();

@@ -1,5 +1,6 @@
 // Building a plugin from generated source with the system C++ compiler,
-// cached by content hash (source, compiler and flags).  A source of several
+// linked with the plugin host (runtime/plugin_host, built once with psc),
+// cached by content hash (source, host, compiler and flags).  A source of several
 // compile units (templates/core.h) is compiled as objects at once, one per
 // core (the units shared out by their expected cost), then linked.
 #pragma once
@@ -22,6 +23,7 @@ struct BuildOptions {
     bool verbose = false;            // print the compile command
     int units = 1;                   // the source's compile units (codegen::hostCompileUnits)
     std::optional<ChildLimits> limits;  // the compiler's time and memory; default: defaultCompileLimits()
+    std::string hostLibrary;         // default: lib/psc/libpsc_plugin_host.a (InstallPaths.h)
 };
 
 struct BuildResult {
@@ -62,12 +64,14 @@ private:
     void addStep(std::vector<std::string> argv);
     void addObject(const std::filesystem::path& source, std::vector<std::string> arguments);
     void cleanUp();
+    std::vector<std::string> hostLinkArguments() const;
 
     BuildOptions options_;
     std::chrono::steady_clock::time_point start_;
     std::string compiler_;
     std::string flags_;
     std::filesystem::path dir_;
+    std::string host_;  // the plugin host archive
     std::string key_;
     std::string unique_;
     std::filesystem::path source_;

@@ -29,7 +29,7 @@ struct SteppedEnv<EnvHome::kBatch> {
     __device__ PSC_INLINE void keep(Env&) const {}
 };
 // The block's copies, kSharedEnvStride bytes apart; the launch sizes it
-// (Batch::runShared, templates/host_cuda.h).
+// (CudaBatch::runShared, runtime/plugin_host/CudaBackend.cpp).
 extern __shared__ unsigned long long psc_shared_envs[];
 template <>
 struct SteppedEnv<EnvHome::kShared> {
