@@ -559,11 +559,13 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
     } else {
         // Registers make ptxas unroll every word of every board access into
         // the rules, which it compiles as one kernel, so compile time grows
-        // with rule code times board words; past this size NVRTC takes over
-        // two seconds on the H100 machine (docs/performance.md: notsnake,
-        // 11.9 k, 1.8 s; match3, 17.3 k, 2.8 s), and local memory, compiled in
-        // parallel units, is chosen instead.
-        constexpr size_t kRegisterCodeBudget = 14000;
+        // with rule code times board words; up to this size NVRTC takes at
+        // most 2.1 s on the GPU machine's host, past it 3 s or more
+        // (docs/performance.md: traveling, 19.9 k, 1.6 s; constellationz,
+        // 19.0 k, 2.1 s; dictionary, 24.9 k, 3.0 s), and local memory,
+        // compiled in parallel units, is chosen instead.  Registers run
+        // these games 2.2-6.1x faster.
+        constexpr size_t kRegisterCodeBudget = 22000;
         gpu.inRegisters = words <= kMaxUnrolledBoardWords && ruleBytes * static_cast<size_t>(words) <= kRegisterCodeBudget;
     }
     const int groups = static_cast<int>(game.rules.size() + game.lateRules.size());

@@ -1,16 +1,19 @@
 #!/usr/bin/python3
-"""Cold build times of the corpus games with the most rule code
-(docs/robustness.md): the rule form `auto` picks for each, and the wall time
-and peak memory of `psc GAME -o PLUGIN --target cpu|cuda` with an empty cache.
+"""Cold build times (docs/robustness.md, docs/performance.md): the rule form
+`auto` picks for each game, and the wall time and peak memory of
+`psc GAME -o PLUGIN --target cpu|cuda` with an empty cache.
 
   tools/build_times.py run [--psc P] [--corpus C] [--largest N] [--code-games M] [--ids ID ...] [--targets cpu,cuda] [--jobs J] --json R.json
-  tools/build_times.py render R.json            a Markdown table of R.json
+  tools/build_times.py run --all [--targets cpu] --json R.json         every corpus game, in corpus order
+  tools/build_times.py run --games G.txt ... [--repeats K] [--levels 0] --json R.json
+  tools/build_times.py render R.json            a Markdown table of R.json (a summary past 40 games)
 
-Games are taken once each (by text) from the corpus's traces, ranked by the
-size of their source with the rules as straight-line code (`psc GAME --emit
-cpp --rules code`, measured J at a time): the N largest, then the M largest
-of those `auto` still writes as code, then the games of the cases --ids
-names.  The builds run one at a time."""
+Corpus games are taken once each (by text) from the corpus's traces, ranked
+by the size of their source with the rules as straight-line code (`psc GAME
+--emit cpp --rules code`, measured J at a time): the N largest, then the M
+largest of those `auto` still writes as code, then the games of the cases
+--ids names; or all of them, unranked.  --games builds the given files
+instead, K times each.  The builds run one at a time."""
 import argparse
 import concurrent.futures
 import hashlib
@@ -46,10 +49,10 @@ def auto_writes_table(psc, path):
     return "PSC_TABLE int kRuleData[]" in r.stdout
 
 
-def build(psc, path, target, tmp):
+def build(psc, path, target, tmp, extra=()):
     cache = tempfile.mkdtemp(dir=tmp)
     command = ["/usr/bin/time", "-f", "maxrss_kb=%M", psc, path, "-o", os.path.join(cache, "plugin.so"),
-               "--target", target, "--keep-going", "--verbose"]
+               "--target", target, "--keep-going", "--verbose", *extra]
     start = time.time()
     r = subprocess.run(command, capture_output=True, text=True, env=dict(os.environ, PSC_CACHE_DIR=cache))
     seconds = time.time() - start
@@ -61,7 +64,28 @@ def build(psc, path, target, tmp):
             "error": "" if r.returncode == 0 else r.stderr.strip()[-400:]}
 
 
+def run_games(a):
+    """The given game files, each built a.repeats times per target."""
+    extra = ["--levels", *a.levels] if a.levels else []
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for path in a.games:
+            row = {"game": os.path.splitext(os.path.basename(path))[0]}
+            for target in a.targets.split(","):
+                runs = [build(a.psc, path, target, tmp, extra) for _ in range(a.repeats)]
+                row[target] = dict(runs[0], seconds=min(r["seconds"] for r in runs), ok=all(r["ok"] for r in runs),
+                                   repeats=[r["seconds"] for r in runs])
+            rows.append(row)
+            print(json.dumps(row), flush=True)
+    return rows
+
+
 def run(a):
+    if a.games:
+        rows = run_games(a)
+        meta = provenance("tools/build_times.py " + " ".join(sys.argv[1:]), a.psc, "cpu")
+        json.dump(dict(meta, games=rows), open(a.json, "w"), indent=1)
+        return
     games = corpus_games(a.corpus)
     with tempfile.TemporaryDirectory() as tmp:
         paths = []
@@ -70,15 +94,18 @@ def run(a):
             with open(path, "w") as f:
                 f.write(text)
             paths.append((game_id, path))
-        with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-            sizes = list(pool.map(lambda p: code_bytes(a.psc, p[1]), paths))
-        ranked = sorted(zip(sizes, paths), key=lambda s: -s[0])
-        chosen = ranked[: a.largest]
-        code_games = [r for r in ranked[a.largest:] if not auto_writes_table(a.psc, r[1][1])][: a.code_games] if a.code_games else []
-        named = [r for r in ranked if r[1][0] in (a.ids or [])]
+        if a.all:
+            chosen, code_games, named = [(None, p) for p in paths], [], []
+        else:
+            with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
+                sizes = list(pool.map(lambda p: code_bytes(a.psc, p[1]), paths))
+            ranked = sorted(zip(sizes, paths), key=lambda s: -s[0])
+            chosen = ranked[: a.largest]
+            code_games = [r for r in ranked[a.largest:] if not auto_writes_table(a.psc, r[1][1])][: a.code_games] if a.code_games else []
+            named = [r for r in ranked if r[1][0] in (a.ids or [])]
         rows = []
         for size, (game_id, path) in chosen + code_games + named:
-            row = {"game": game_id, "code_mb": round(size / 1e6, 2)}
+            row = {"game": game_id, "code_mb": round(size / 1e6, 2) if size is not None else None}
             for target in a.targets.split(","):
                 row[target] = build(a.psc, path, target, tmp)
             rows.append(row)
@@ -87,10 +114,54 @@ def run(a):
     json.dump(dict(meta, games=rows), open(a.json, "w"), indent=1)
 
 
+def render_summary(report, targets):
+    """Many games: the spread of their build times, and the slowest."""
+    games = report["games"]
+    print("| target | games | built | failed | median | 99th percentile | slowest | over 60 s | over 120 s |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for t in targets:
+        runs = [g[t] for g in games if t in g]
+        seconds = sorted(r["seconds"] for r in runs)
+        ok = sum(r["ok"] for r in runs)
+        pick = lambda q: seconds[min(len(seconds) - 1, int(q * len(seconds)))]
+        print(f"| {t.upper()} | {len(runs)} | {ok} | {len(runs) - ok} | {pick(0.5):.1f} s | {pick(0.99):.1f} s | {seconds[-1]:.1f} s | "
+              f"{sum(s > 60 for s in seconds)} | {sum(s > 120 for s in seconds)} |")
+    for t in targets:
+        slowest = sorted((g for g in games if t in g), key=lambda g: -g[t]["seconds"])[:10]
+        print(f"\nThe ten slowest {t.upper()} builds: " + ", ".join(f"`{g['game']}` {g[t]['seconds']:.1f} s" for g in slowest) + ".")
+        failed = [g for g in games if t in g and not g[t]["ok"]]
+        for g in failed:
+            print(f"\n{t.upper()} build of `{g['game']}` failed: {g[t]['error'][-200:]}")
+
+
+def render_repeats(report, targets):
+    """Given games built several times: min and median of each."""
+    print("| game | " + " | ".join(f"{t.upper()} plugin, cold: min / median" for t in targets) + " |")
+    print("|---|" + "---:|" * len(targets))
+    medians = {t: [] for t in targets}
+    for g in report["games"]:
+        cells = []
+        for t in targets:
+            runs = sorted(g[t]["repeats"])
+            median = runs[len(runs) // 2]
+            medians[t].append(median)
+            cells.append(f"{runs[0]:.2f} / {median:.2f} s" if g[t]["ok"] else "failed")
+        print(f"| {g['game']} | " + " | ".join(cells) + " |")
+    for t in targets:
+        m = sorted(medians[t])
+        print(f"\n{t.upper()}: median over the games {m[len(m) // 2]:.2f} s, maximum {m[-1]:.2f} s")
+
+
 def render(a):
     report = json.load(open(a.report))
     targets = [t for t in ("cpu", "cuda") if any(t in g for g in report["games"])]
     print(f"`{report['command']}` (psc {report['commit']}, {report['machine']}, {report['date']}):\n")
+    if any("repeats" in g.get(t, {}) for g in report["games"] for t in targets):
+        render_repeats(report, targets)
+        return
+    if len(report["games"]) > 40:
+        render_summary(report, targets)
+        return
     print("| corpus case (game) | CPU source with rules as code | form `auto` chose | " +
           " | ".join(f"{t.upper()} plugin, cold | psc's peak RSS ({t.upper()})" for t in targets) + " |")
     print("|---|---:|---|" + "---:|---:|" * len(targets))
@@ -114,6 +185,10 @@ def main():
     r.add_argument("--largest", type=int, default=20)
     r.add_argument("--code-games", type=int, default=0)
     r.add_argument("--ids", nargs="*", help="also these cases' games (corpus case ids)")
+    r.add_argument("--all", action="store_true", help="every corpus game, unranked")
+    r.add_argument("--games", nargs="*", help="these game files instead of the corpus's")
+    r.add_argument("--repeats", type=int, default=1, help="builds of each --games file")
+    r.add_argument("--levels", nargs="*", help="psc --levels for --games builds")
     r.add_argument("--targets", default="cpu,cuda")
     r.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     r.add_argument("--json", required=True)
