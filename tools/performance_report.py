@@ -1,0 +1,94 @@
+#!/usr/bin/python3
+"""The summary table of docs/performance.md: each benchmark game's GPU steps/s
+at default options (best batch, and batches 1, 1,024 and 16,384), its CPU
+steps/s on one thread of the development machine, the ratio, PuzzleJAX's
+figure and the ratio to it, and the cold build of its CUDA plugin; then the
+geometric means against issue 18's bars.
+
+  tools/performance_report.py --gpu-bench DIR --cpu-bench MD [MD ...] --buildtime TXT
+
+DIR holds `tools/gpu_check.sh bench`'s outputs (GAME.txt), each MD a
+`bench/cpu_bench.sh` table (the best figure of a game over the files counts:
+the development machine's speed varies by half between runs, and a slower run
+would flatter the ratio), TXT `tools/gpu_check.sh buildtime`'s output (the
+minimum over its default, parallel builds)."""
+import argparse
+import math
+import os
+import re
+
+# PuzzleJAX's best steps/s on the same GPU model (issue 4), millions.
+PUZZLEJAX_M = {"sokoban": 4.75, "notsnake": 6.97, "blocks": 1.11, "traveling": 7.23, "match3": 2.55,
+               "constellationz": 1.82, "zenpuzzle": 2.54, "dictionary": 1.68, "takeheart": 1.81, "limerick": 0.35,
+               "slidings": 1.65, "kettle": 0.27, "atlas": 0.014}
+SMALL_BATCHES = (1, 1024, 16384)
+
+
+def gpu_bench(path):
+    text = open(path).read()
+    rows = {int(m.group(1)): float(m.group(2)) for m in re.finditer(r"^\s+(\d+)\s+\d+\s+(\d+)\s+\d+\s+\d+$", text, re.M)}
+    best = re.search(r"best batch (\d+)\nsteps/s: (\d+)", text)
+    units = re.search(r"CUDA compile \(nvrtc(?:, (\d+) units)?\)", text)
+    layout = f"memory, {units.group(1)} units" if units and units.group(1) else "registers" if units else "?"
+    return {"best": float(best.group(2)), "best_batch": int(best.group(1)), "rows": rows, "layout": layout}
+
+
+def cpu_bench(paths):
+    best = {}
+    for path in paths:
+        for m in re.finditer(r"^\| (\w+) \| ([\d.]+) \|", open(path).read(), re.M):
+            best[m.group(1)] = max(best.get(m.group(1), 0.0), float(m.group(2)))
+    return best
+
+
+def build_times(path):
+    times = {}
+    for m in re.finditer(r"^(\w+)\s+jobs all exit 0\s+total\s+([\d.]+) s", open(path).read(), re.M):
+        times[m.group(1)] = min(times.get(m.group(1), math.inf), float(m.group(2)))
+    return times
+
+
+def si(v):
+    for scale, suffix in ((1e9, " G"), (1e6, " M"), (1e3, " k")):
+        if v >= scale:
+            return f"{v / scale:.3g}{suffix}"
+    return f"{v:.0f}"
+
+
+def geomean(values):
+    return math.exp(sum(math.log(v) for v in values) / len(values))
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--gpu-bench", required=True)
+    ap.add_argument("--cpu-bench", nargs="+", required=True)
+    ap.add_argument("--buildtime", required=True)
+    a = ap.parse_args()
+    cpu = cpu_bench(a.cpu_bench)
+    builds = build_times(a.buildtime)
+    games = sorted((os.path.splitext(f)[0] for f in os.listdir(a.gpu_bench) if f.endswith(".txt")),
+                   key=lambda g: -gpu_bench(os.path.join(a.gpu_bench, g + ".txt"))["best"])
+    print("| game | layout | GPU steps/s, best batch | " + " | ".join(f"batch {b:,}" for b in SMALL_BATCHES) +
+          " | CPU steps/s, 1 thread | GPU / CPU | PuzzleJAX | GPU / PuzzleJAX | cold CUDA build |")
+    print("|---|---|---:|" + "---:|" * len(SMALL_BATCHES) + "---:|---:|---:|---:|---:|")
+    to_cpu, to_jax = [], []
+    for g in games:
+        r = gpu_bench(os.path.join(a.gpu_bench, g + ".txt"))
+        small = " | ".join(si(r["rows"][b]) if b in r["rows"] else "" for b in SMALL_BATCHES)
+        ratio_cpu = r["best"] / cpu[g]
+        ratio_jax = r["best"] / (PUZZLEJAX_M[g] * 1e6)
+        to_cpu.append(ratio_cpu)
+        to_jax.append(ratio_jax)
+        print(f"| {g} | {r['layout']} | {si(r['best'])} ({r['best_batch']:,}) | {small} | {si(cpu[g])} | {ratio_cpu:,.0f}× | "
+              f"{PUZZLEJAX_M[g]:g} M | {ratio_jax:,.0f}× | {builds[g]:.2f} s |")
+    seconds = sorted(builds[g] for g in games)
+    print()
+    print(f"GPU / CPU: geometric mean {geomean(to_cpu):,.0f}× (bar 600×), lowest {min(to_cpu):,.0f}× (bar 400×); "
+          f"{sum(v >= 400 for v in to_cpu)} of {len(games)} games at 400× or more.")
+    print(f"GPU / PuzzleJAX: geometric mean {geomean(to_jax):,.0f}× (bar 1,000×), lowest {min(to_jax):,.0f}× (bar 300×).")
+    print(f"Cold CUDA build: median {seconds[len(seconds) // 2]:.2f} s (bar 1.5 s), maximum {seconds[-1]:.2f} s (bar 3 s).")
+
+
+if __name__ == "__main__":
+    main()
