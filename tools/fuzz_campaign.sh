@@ -54,10 +54,13 @@ for target in "${targets[@]}"; do
   mkdir -p "$findings" "$generated" "$regressions"
   # The same limits for replays and fresh runs: an input over them is a
   # finding.  Code generation of a large game takes seconds under ASan, so its
-  # inputs (and seeds) are cut shorter.
+  # inputs (and seeds) are cut shorter, and given longer: the largest corpus
+  # games take 30-84 s each under ASan with 16 jobs on 16 cores
+  # (docs/robustness.md), which a 30 s limit reported as timeouts.
   max_len=65536
-  [ "$target" = codegen ] && max_len=16384
-  limits=(-timeout=30 -rss_limit_mb=4096 -max_len=$max_len)
+  timeout=30
+  [ "$target" = codegen ] && max_len=16384 && timeout=120
+  limits=(-timeout=$timeout -rss_limit_mb=4096 -max_len=$max_len)
 
   inputs=("$regressions"/*)
   if [ -e "${inputs[0]}" ]; then
