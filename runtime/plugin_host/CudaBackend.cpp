@@ -383,7 +383,8 @@ int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
     std::vector<int32_t> entries(count, info.level_entries[firstBuilt]);
     std::vector<std::u16string> seeds(count, u"0");
     if (int e = cudaResetEntries(batch, nullptr, n, entries.data(), seeds)) {
-        psc_batch_destroy(batch);
+        cudaBatchDestroy(batch);
+        delete batch;
         return e;
     }
     *out = batch;

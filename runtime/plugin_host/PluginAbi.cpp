@@ -96,6 +96,12 @@ int fetchEnv(const psc_batch* b, int env, EnvBuffer& out) {
     return PSC_OK;
 }
 
+// psc_state_size's, called here rather than through the exported symbol,
+// which another plugin loaded with RTLD_GLOBAL would interpose.
+size_t stateBytes(const psc_batch* b) {
+    return sizeof(StateHeader) + game().envBytes + game().snapshotBytes * static_cast<size_t>(b->undoDepth);
+}
+
 int createCpuBatch(const psc_batch_options* options, psc_batch** batch) {
     const GameModule& g = game();
     psc_batch* b = new (std::nothrow) psc_batch;
@@ -392,15 +398,14 @@ PSC_API int psc_observe(psc_batch* batch, uint8_t* observations, size_t size) {
 }
 
 PSC_API size_t psc_state_size(const psc_batch* batch) {
-    if (!batch) return 0;
-    return sizeof(StateHeader) + game().envBytes + game().snapshotBytes * static_cast<size_t>(batch->undoDepth);
+    return batch ? stateBytes(batch) : 0;
 }
 
 PSC_API int psc_save_state(const psc_batch* batch, int32_t env, void* buffer, size_t size) {
     const GameModule& g = game();
     if (int s = checkEnv(batch, env)) return s;
     if (!buffer) return fail(PSC_ERROR_NULL_POINTER, "buffer is NULL");
-    if (size < psc_state_size(batch)) return fail(PSC_ERROR_BUFFER_TOO_SMALL, "the buffer is smaller than psc_state_size()");
+    if (size < stateBytes(batch)) return fail(PSC_ERROR_BUFFER_TOO_SMALL, "the buffer is smaller than psc_state_size()");
     char* out = static_cast<char*>(buffer);
     char* body = out + sizeof(StateHeader);
     char* undoOut = body + g.envBytes;
@@ -435,7 +440,7 @@ PSC_API int psc_load_state(psc_batch* batch, int32_t env, const void* buffer, si
     const GameModule& g = game();
     if (int s = checkEnv(batch, env)) return s;
     if (!buffer) return fail(PSC_ERROR_NULL_POINTER, "buffer is NULL");
-    if (size < psc_state_size(batch)) return fail(PSC_ERROR_BUFFER_TOO_SMALL, "the buffer is smaller than psc_state_size()");
+    if (size < stateBytes(batch)) return fail(PSC_ERROR_BUFFER_TOO_SMALL, "the buffer is smaller than psc_state_size()");
     StateHeader h;
     const char* in = static_cast<const char*>(buffer);
     std::memcpy(&h, in, sizeof h);
