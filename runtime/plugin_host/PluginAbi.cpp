@@ -8,6 +8,7 @@
 #include <cstring>
 #include <memory>
 #include <new>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 #include <thread>
@@ -140,6 +141,9 @@ int createCpuBatch(const psc_batch_options* options, psc_batch** batch) {
     } catch (const std::bad_alloc&) {
         delete b;
         return fail(PSC_ERROR_OUT_OF_MEMORY, "out of memory creating the batch");
+    } catch (const std::length_error&) {
+        delete b;
+        return fail(PSC_ERROR_OUT_OF_MEMORY, "the batch is larger than memory");
     }
     *batch = b;
     return PSC_OK;
@@ -184,6 +188,13 @@ PSC_API int psc_batch_create(const psc_batch_options* options, psc_batch** batch
         return fail(PSC_ERROR_BAD_ARGUMENT, "again_mode must be 0 or 1 (psc_again_mode)");
     }
     if (levelCount() == 0) return fail(PSC_ERROR_BAD_LEVEL, "the game has no playable level");
+    // The sizes below are products of the caller's numbers: one that does
+    // not fit in size_t would wrap to a small allocation.
+    const size_t envs = static_cast<size_t>(options->num_envs);
+    const size_t depth = static_cast<size_t>(options->undo_depth);
+    if (envs > SIZE_MAX / game().envBytes || (depth && envs > SIZE_MAX / depth / game().snapshotBytes)) {
+        return fail(PSC_ERROR_OUT_OF_MEMORY, "num_envs × undo_depth environments and snapshots are more bytes than memory has");
+    }
     if (options->backend == PSC_BACKEND_CUDA) return cudaBatchCreate(options, batch);
     return createCpuBatch(options, batch);
 }
