@@ -129,6 +129,7 @@ std::optional<CudaCompileResult> compileDeviceSource(const std::string& source, 
                        r.units, r.units - 1, link, times);
         }
         printResourceReport(r.log);
+        if (r.ok) fmt::print(stderr, "psc: kernels' stack: at most {} bytes a thread (stackBound)\n", r.stackBytes);
     }
     if (!r.ok) {
         fmt::print(stderr, "{}: error: compiling the CUDA code failed\n{}\n", path, r.log);

@@ -388,14 +388,10 @@ struct Env {
 // different banks.
 constexpr unsigned kSharedEnvStride = static_cast<unsigned>(((sizeof(Env) + 7) / 8 | 1) * 8);
 
-// Storage for one environment's undo history, outside Env so that its depth
-// can be chosen per batch (zero disables undo).
-struct UndoStack {
-    Snapshot* entries;
-    int capacity;
-    int count;
-    int head;  // index of the oldest entry
-};
+// Environments this large are stepped on the GPU where they lie in the
+// batch: the driver reserves a thread's stack for every thread the GPU can
+// hold (about 270,000 on an H100) and allows 512 kB at most.
+constexpr bool kEnvInBatch = !PSC_STATE_IN_REGISTERS && !PSC_STATE_IN_SHARED && sizeof(Env) > 128 * 1024;
 
 // What a turn keeps while it runs (the reference's turn-local variables).
 struct Turn {
@@ -404,6 +400,34 @@ struct Turn {
     Board rigidApplied[kLayers];    // per layer, claimed by a rigid rule
 #endif
     u64 banned;  // banned rigid groups, by rigid index (bit 63: a ban that names no group)
+};
+
+// A turn's largest locals: its Turn, the level as the turn found it, and
+// with rigid bodies the movements its retries start from.
+struct TurnScratch {
+    Turn turn;
+    Snapshot bak;
+#if PSC_HAS_RIGID
+    Board startMov[kLayers * 5];
+#endif
+};
+
+// Turns nest: an input's turn wins, the next level's start turn restarts,
+// the restarted start turn runs (a restart while restarting is ignored and
+// a start turn never wins).  runtime/CudaCompiler.h bounds the stack by it.
+constexpr int kMaxTurnNesting = 3;
+
+// What one environment keeps outside Env: its undo history, whose depth is
+// chosen per batch (zero disables undo), and, for an environment in the
+// batch on the GPU (kEnvInBatch), the TurnScratch of each nested turn, which
+// on the stack would be a level's worth of objects several times over.
+struct UndoStack {
+    Snapshot* entries;
+    int capacity;
+    int count;
+    int head;  // index of the oldest entry
+    TurnScratch* scratch;  // kMaxTurnNesting of them, or null (a turn's scratch on its stack)
+    int scratchDepth;      // turns running
 };
 
 // Level size, constant when every level built has the same.

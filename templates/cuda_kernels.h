@@ -7,14 +7,11 @@
 
 namespace psc_game {
 
-// Where a stepping thread's environment lies.  The driver reserves a thread's
-// stack for every thread the GPU can hold (about 270,000 on an H100) and
-// allows 512 kB at most, so a copy of a large environment on the stack keeps
-// a game with large boards off the GPU: those are stepped in the batch.
+// Where a stepping thread's environment lies: a copy on its stack, the
+// environment in the batch (kEnvInBatch, too large for the stack), or a
+// copy in shared memory.
 enum class EnvHome { kStack, kBatch, kShared };
-constexpr EnvHome kEnvHome = PSC_STATE_IN_SHARED                                   ? EnvHome::kShared
-                             : !PSC_STATE_IN_REGISTERS && sizeof(Env) > 128 * 1024 ? EnvHome::kBatch
-                                                                                   : EnvHome::kStack;
+constexpr EnvHome kEnvHome = PSC_STATE_IN_SHARED ? EnvHome::kShared : kEnvInBatch ? EnvHome::kBatch : EnvHome::kStack;
 
 template <EnvHome Home = kEnvHome>
 struct SteppedEnv {
@@ -47,6 +44,8 @@ __device__ PSC_INLINE UndoStack undoOf(const DeviceBatch& b, int i) {
     u.capacity = b.undoDepth;
     u.count = b.undoDepth ? b.undoCount[i] : 0;
     u.head = b.undoDepth ? b.undoHead[i] : 0;
+    u.scratch = b.turnScratch ? b.turnScratch + static_cast<unsigned long long>(i) * kMaxTurnNesting : nullptr;
+    u.scratchDepth = 0;
     return u;
 }
 

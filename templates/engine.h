@@ -232,12 +232,39 @@ PSC_DEVICE PSC_INLINE void clearRigidClaims(Turn& t) {
 #endif
 }
 
+// Where a turn's TurnScratch lies: on its stack, or, for an environment in
+// the batch on the GPU, in the batch (UndoStack::scratch), one per nested turn.
+#if defined(__CUDA_ARCH__)
+constexpr bool kTurnScratchInBatch = kEnvInBatch;
+#else
+constexpr bool kTurnScratchInBatch = false;
+#endif
+template <bool InBatch = kTurnScratchInBatch>
+struct TurnScratchSlot {
+    TurnScratch s;
+    PSC_DEVICE PSC_INLINE explicit TurnScratchSlot(UndoStack&) {}
+};
+template <>
+struct TurnScratchSlot<true> {
+    UndoStack& u;
+    TurnScratch& s;
+    PSC_DEVICE PSC_INLINE explicit TurnScratchSlot(UndoStack& undo) : u(undo), s(undo.scratch[undo.scratchDepth++]) {
+#if defined(__CUDA_ARCH__)
+        // Unreachable by kMaxTurnNesting's argument; past it, stop the
+        // kernel rather than write another environment's scratch.
+        if (u.scratchDepth > kMaxTurnNesting) __trap();
+#endif
+    }
+    PSC_DEVICE PSC_INLINE ~TurnScratchSlot() { --u.scratchDepth; }
+};
+
 // The rules of a turn (the reference's processInput up to its command
 // queue): the player's movement, rules, movement resolution with the rigid
 // retry loop, late rules.  dir is 0 up, 1 left, 2 down, 3 right, 4 action,
-// or -1 for none.  `bak` receives the level as it was.  Returns false when
-// require_player_movement undid the turn.
-PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, Snapshot& bak) {
+// or -1 for none.  `scratch.bak` receives the level as it was.  Returns
+// false when require_player_movement undid the turn.
+PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, TurnScratch& scratch) {
+    Snapshot& bak = scratch.bak;
     e.againing = 0;
     saveObjects(e, bak);
     Board playerPositions = Board::zero();
@@ -246,15 +273,15 @@ PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, Snapshot& bak) {
         playerPositions = playerCells(e);
         addPlayerMovement(e, playerPositions, direction);
     }
-    Turn t;
+    Turn& t = scratch.turn;
     t.banned = 0;
     clearRigidClaims(t);
     e.queue = 0;
 
 #if PSC_HAS_RIGID
-    Board startObj[kObjects];
-    Board startMov[kLayers * 5];
-    PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) startObj[o] = e.obj[o];
+    // A retry starts from the objects in bak (the player's movement changed
+    // only movements) and these movements.
+    Board* startMov = scratch.startMov;
     PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) startMov[m] = e.mov[m];
     for (int iteration = 1;; ++iteration) {
         applyEarlyRules(e, t);
@@ -263,7 +290,7 @@ PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, Snapshot& bak) {
             break;
         }
         // A rigid group was banned: start over without it (at most 50 tries).
-        PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) e.obj[o] = startObj[o];
+        loadObjects(e, bak);
         PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = startMov[m];
         clearRigidClaims(t);
         e.queue = 0;
@@ -314,8 +341,9 @@ PSC_DEVICE PSC_TURN bool playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin)
     bool dryRun = false;
     bool modified = false;
     for (;;) {
-        Snapshot bak;
-        const bool ruled = runRules(e, dir, bak);
+        TurnScratchSlot<> scratch(u);
+        const Snapshot& bak = scratch.s.bak;
+        const bool ruled = runRules(e, dir, scratch.s);
         if (dryRun) {
             if (ruled && dryRunCommands(e, u, bak)) e.againing = 1;
             e.queue = 0;
@@ -454,6 +482,7 @@ struct DeviceBatch {
     int maxWidth;
     int maxHeight;
     unsigned long long* stats;  // steps, wins, episodes, invalid actions (psc_run_kernel)
+    TurnScratch* turnScratch;   // [numEnvs][kMaxTurnNesting] where kEnvInBatch, else null
 };
 
 // ---- episodes (the plugin's step, shared by the CPU and CUDA backends)

@@ -11,13 +11,16 @@ namespace {
 static_assert(sizeof(UndoStack) == sizeof(psc_host::UndoRing) && offsetof(UndoStack, entries) == offsetof(psc_host::UndoRing, entries) &&
                   offsetof(UndoStack, capacity) == offsetof(psc_host::UndoRing, capacity) &&
                   offsetof(UndoStack, count) == offsetof(psc_host::UndoRing, count) &&
-                  offsetof(UndoStack, head) == offsetof(psc_host::UndoRing, head),
+                  offsetof(UndoStack, head) == offsetof(psc_host::UndoRing, head) &&
+                  offsetof(UndoStack, scratch) == offsetof(psc_host::UndoRing, turnScratch) &&
+                  offsetof(UndoStack, scratchDepth) == offsetof(psc_host::UndoRing, turnScratchDepth),
               "the host's undo ring is the engine's UndoStack");
 static_assert(alignof(Env) <= 8 && alignof(Snapshot) <= 8, "the host keeps environments 8-byte aligned");
 static_assert(sizeof(DeviceBatch) == sizeof(psc_host::DeviceBuffers) &&
                   offsetof(DeviceBatch, undoDepth) == offsetof(psc_host::DeviceBuffers, undoDepth) &&
                   offsetof(DeviceBatch, channelObjects) == offsetof(psc_host::DeviceBuffers, channelObjects) &&
-                  offsetof(DeviceBatch, stats) == offsetof(psc_host::DeviceBuffers, stats),
+                  offsetof(DeviceBatch, stats) == offsetof(psc_host::DeviceBuffers, stats) &&
+                  offsetof(DeviceBatch, turnScratch) == offsetof(psc_host::DeviceBuffers, turnScratch),
               "the host's device buffers are the kernels' DeviceBatch");
 
 Env& envOf(void* env) { return *static_cast<Env*>(env); }
@@ -152,6 +155,7 @@ int moduleWinDistance(const void* env) { return winDistance(envOf(env)); }
 const psc_host::DeviceCode kDeviceCode = {
     psc_device_cubin, psc_device_ptx, psc_device_ptx_bytes, psc_device_ptx_units, psc_device_stack_bytes,
     PSC_STATE_IN_SHARED, kSharedEnvStride, PSC_SEARCH_KERNELS, kExpandTooLarge,
+    kEnvInBatch ? kMaxTurnNesting * sizeof(TurnScratch) : 0,
 };
 #endif
 

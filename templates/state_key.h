@@ -146,7 +146,7 @@ PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child)
     e.stopOnWin = 1;
     e.needsReset = 0;
     e.againMode = kAgainSettle;  // a child is where the input's whole again chain leads
-    UndoStack none = {nullptr, 0, 0, 0};
+    UndoStack none = {nullptr, 0, 0, 0, nullptr, 0};
     const bool settled = applyInput(e, none, input);
     encodeKey(e, child);
     bool same = true;

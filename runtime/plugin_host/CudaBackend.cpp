@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <new>
@@ -297,7 +298,11 @@ int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
     size_t stack = 0;
     if (int s = check(d.cuCtxGetLimit(&stack, kStackLimit), "reading the stack limit")) return cleanup(s);
     if (stack < code.stackBytes) {
-        const std::string what = "raising the stack limit to " + std::to_string(code.stackBytes) + " bytes a thread";
+        // The driver refuses more than 512 kB a thread, and reserves the limit
+        // for every thread the GPU can hold.
+        const std::string what = "raising the stack limit to the " + std::to_string(code.stackBytes) +
+                                 " bytes a thread this game's kernels need (a game whose levels need more than the driver "
+                                 "allows, at most 512 kB, runs on the CPU backend)";
         if (int s = check(d.cuCtxSetLimit(kStackLimit, code.stackBytes), what.c_str())) return cleanup(s);
     }
     const CUresult loaded = loadModule(code, &cb->module);
@@ -341,6 +346,11 @@ int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
     if (!s) s = cb->allocate(&b.episodeSteps, count);
     if (!s) s = cb->allocate(&channelObjects, static_cast<size_t>(info.object_count));
     if (!s) s = cb->allocate(&b.stats, 4);
+    if (!s && code.turnScratchBytes) {
+        s = count > SIZE_MAX / code.turnScratchBytes
+                ? fail(PSC_ERROR_OUT_OF_MEMORY, "num_envs environments' turn scratch is more bytes than memory has")
+                : cb->allocateBytes(&b.turnScratch, count * code.turnScratchBytes);
+    }
     if (s) return cleanup(s);
     b.channelObjects = channelObjects;
     if (int e = check(d.cuMemcpyHtoD(address(channelObjects), g.channelObjects, sizeof(int) * static_cast<size_t>(info.object_count)),

@@ -18,14 +18,17 @@ namespace psc_host {
 
 // Raised whenever the module's layout changes; the host refuses a module of
 // another version (a plugin built from mismatched parts).
-constexpr uint32_t kGameModuleVersion = 1;
+constexpr uint32_t kGameModuleVersion = 2;
 
-// A ring of undo snapshots, laid out as the engine's UndoStack.
+// A ring of undo snapshots, laid out as the engine's UndoStack (whose turn
+// scratch only the GPU's kernels use: null here).
 struct UndoRing {
     void* entries;
     int capacity;
     int count;
     int head;  // index of the oldest entry
+    void* turnScratch;
+    int turnScratchDepth;
 };
 
 // The fields of an environment the host reads.
@@ -61,6 +64,7 @@ struct DeviceBuffers {
     int maxWidth;
     int maxHeight;
     unsigned long long* stats;  // steps, wins, episodes, invalid actions (psc_run_kernel)
+    void* turnScratch;          // turnScratchBytes an environment, where DeviceCode asks for it
 };
 
 // The game's compiled device code (a plugin built with the CUDA backend).
@@ -74,6 +78,9 @@ struct DeviceCode {
     unsigned sharedEnvStride;  // bytes between two of them there
     int searchKernels;         // psc_expand_kernel was compiled
     int expandTooLarge;        // environments too large to expand on the GPU
+    // Device memory each environment's turns need besides the stack (0: none):
+    // the scratch of environments too large for the stack.
+    size_t turnScratchBytes;
 };
 
 struct GameModule {

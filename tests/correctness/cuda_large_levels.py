@@ -1,0 +1,63 @@
+#!/usr/bin/python3
+"""Games with large levels on the GPU: an environment too large for a
+thread's stack is stepped where it lies in the batch, and so are its turns'
+largest locals (templates/core.h, TurnScratch), so the kernels' stack stays
+far below the 512 kB a thread that the driver allows (and reserves for every
+thread the GPU can hold).
+
+    cuda_large_levels.py PSC RIGID_GAME
+
+The rigid-body game gets one level of about 38,000 cells (an environment of
+about 130 kB: over the 128 kB kEnvInBatch bound); its CUDA code is compiled
+(no GPU needed) with its rules as code and as a table, and psc --verbose's
+bound on the kernels' stack must stay under STACK_LIMIT."""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+WIDTH, HEIGHT = 200, 190
+STACK_LIMIT = 128 * 1024  # a quarter of the driver's 512 kB; such a game needed more than 512 kB before
+
+
+def large_level():
+    rows = ["#" * WIDTH]
+    for y in range(1, HEIGHT - 1):
+        row = ["."] * WIDTH
+        row[0] = row[-1] = "#"
+        if y == HEIGHT // 2:
+            row[WIDTH // 2 - 1:WIDTH // 2 + 3] = list("PLRH")
+        rows.append("".join(row))
+    rows.append("#" * WIDTH)
+    return "\n".join(rows) + "\n"
+
+
+def main():
+    psc, rigid_game = sys.argv[1], sys.argv[2]
+    text = open(rigid_game).read()
+    head = text[:text.index("LEVELS")]
+    failures = []
+    with tempfile.TemporaryDirectory() as work:
+        game = os.path.join(work, "large.txt")
+        with open(game, "w") as f:
+            f.write(head + "LEVELS\n=======\n\n" + large_level())
+        for rules in ("code", "table"):
+            r = subprocess.run([psc, game, "--emit", "ptx", "--verbose", "--rules", rules], capture_output=True, text=True,
+                               timeout=600, env=dict(os.environ, XDG_CACHE_HOME=os.path.join(work, "cache-" + rules)))
+            stack = re.search(r"kernels' stack: at most (\d+) bytes", r.stderr)
+            words = re.search(r"constexpr int kWords = (\d+);", subprocess.run(
+                [psc, game, "--emit", "cuda", "--rules", rules], capture_output=True, text=True, timeout=600).stdout)
+            if r.returncode != 0 or not stack or not words:
+                failures.append(f"rules as {rules}: the build failed or printed no stack bound: {r.stderr[-800:]}")
+                continue
+            print(f"rules as {rules}: {words.group(1)} words a board, kernels' stack at most {stack.group(1)} bytes a thread")
+            if int(stack.group(1)) > STACK_LIMIT:
+                failures.append(f"rules as {rules}: the kernels need {stack.group(1)} bytes of stack a thread, over {STACK_LIMIT}")
+    for f in failures:
+        print("FAIL", f)
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == "__main__":
+    main()
