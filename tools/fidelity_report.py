@@ -4,6 +4,7 @@
     tools/fidelity_report.py run [--psc build/cli/psc] [--frontend build/tests/psc-frontend-corpus]
                                  [--corpus ../shared/corpus] [--jobs N] [--scraped-sample N] [--results DIR]
     tools/fidelity_report.py render [--results DIR] [--out docs/fidelity.md]
+    tools/fidelity_report.py merge --out REPORT PART...
 
 `run` checks the front end on every front-end case and replays every public
 trace on the CPU, writing one JSON report per check into DIR (default
@@ -14,7 +15,11 @@ to be copied into DIR as replay-cuda-testsuite.json and replay-cuda-scraped.json
 CTest's corpus-replay-testsuite and corpus-replay-scraped-sample write the
 CPU's reports of their runs into the build folder as well.
 `render` writes the page from whatever reports DIR holds, each table with the
-command, commit, machine and day that produced it.
+command, commit, machine and day that produced it.  `merge` makes one suite's
+report of several partial ones (a device call ends after 10 minutes, so a
+whole suite takes several, each with --ids-file): a case in several parts
+keeps the last part's result, and the command, commit and machine name each
+part with the number of cases it gave.
 """
 import argparse
 import json
@@ -151,9 +156,38 @@ def render(a):
     print(f"wrote {a.out}")
 
 
+def merge(a):
+    parts = [json.load(open(path)) for path in a.parts]
+    if len({(p["suite"], p["backend"]) for p in parts}) != 1:
+        sys.exit("merge: the parts must be reports of one suite on one backend")
+    cases, source = {}, {}
+    for k, part in enumerate(parts):
+        for case in part["cases"]:
+            cases[case["id"]] = case
+            source[case["id"]] = k
+    given = Counter(source.values())
+
+    def each(field):
+        counts = Counter()
+        for k in range(len(parts)):
+            counts[parts[k][field]] += given[k]
+        if len(counts) == 1:
+            return next(iter(counts))
+        return "; ".join(f"{value} ({n} cases)" for value, n in counts.items() if n)
+
+    merged = sorted(cases.values(), key=lambda c: c["id"])
+    report = {"suite": parts[0]["suite"], "backend": parts[0]["backend"],
+              "passed": sum(c["status"] == "pass" for c in merged), "total": len(merged),
+              "command": each("command"), "commit": each("commit"), "machine": each("machine"), "date": each("date"),
+              "cases": merged}
+    with open(a.out, "w") as f:
+        json.dump(report, f, indent=1)
+    print(f"wrote {a.out}: {report['passed']}/{report['total']} passed; commits {report['commit']}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("command", choices=["run", "render"])
+    ap.add_argument("command", choices=["run", "render", "merge"])
     ap.add_argument("--psc", default="build/cli/psc")
     ap.add_argument("--frontend", default="build/tests/psc-frontend-corpus")
     ap.add_argument("--corpus", default="../shared/corpus")
@@ -162,8 +196,9 @@ def main():
                     help="replay this many scraped traces, one game each first (corpus_replay.py --sample); 0: all")
     ap.add_argument("--results", default="docs/results/fidelity")
     ap.add_argument("--out", default="docs/fidelity.md")
-    a = ap.parse_args()
-    (run if a.command == "run" else render)(a)
+    ap.add_argument("parts", nargs="*", help="merge: the partial reports, oldest first")
+    a = ap.parse_intermixed_args()
+    {"run": run, "render": render, "merge": merge}[a.command](a)
 
 
 if __name__ == "__main__":

@@ -5,13 +5,16 @@ steps/s on one thread of the development machine, the ratio, PuzzleJAX's
 figure and the ratio to it, and the cold build of its CUDA plugin; then the
 geometric means against issue 18's bars.
 
-  tools/performance_report.py --gpu-bench DIR --cpu-bench MD [MD ...] --buildtime TXT
+  tools/performance_report.py --gpu-bench DIR --cpu-bench MD [MD ...] --buildtime TXT [--layouts DIR2]
 
 DIR holds `tools/gpu_check.sh bench`'s outputs (GAME.txt), each MD a
 `bench/cpu_bench.sh` table (the best figure of a game over the files counts:
 the development machine's speed varies by half between runs, and a slower run
-would flatter the ratio), TXT `tools/gpu_check.sh buildtime`'s output (the
-minimum over its default, parallel builds)."""
+would flatter the ratio), TXT `tools/gpu_check.sh buildtime`'s output (its
+default, parallel builds: each game's range over its repeats; the bars
+take each game's median and the slowest single build).  A game's layout is
+read from its bench output's compile line; where its plugin came from the
+cache (`gpu_check.sh prebuild`), from DIR2's output of the same game."""
 import argparse
 import math
 import os
@@ -44,8 +47,17 @@ def cpu_bench(paths):
 def build_times(path):
     times = {}
     for m in re.finditer(r"^(\w+)\s+jobs all exit 0\s+total\s+([\d.]+) s", open(path).read(), re.M):
-        times[m.group(1)] = min(times.get(m.group(1), math.inf), float(m.group(2)))
+        times.setdefault(m.group(1), []).append(float(m.group(2)))
     return times
+
+
+def median(values):
+    v = sorted(values)
+    return (v[(len(v) - 1) // 2] + v[len(v) // 2]) / 2
+
+
+def seconds_range(values):
+    return f"{min(values):.2f} s" if len(values) == 1 else f"{min(values):.2f}–{max(values):.2f} s"
 
 
 def si(v):
@@ -64,6 +76,7 @@ def main():
     ap.add_argument("--gpu-bench", required=True)
     ap.add_argument("--cpu-bench", nargs="+", required=True)
     ap.add_argument("--buildtime", required=True)
+    ap.add_argument("--layouts", help="bench outputs that name the layouts, where --gpu-bench's plugins came from the cache")
     a = ap.parse_args()
     cpu = cpu_bench(a.cpu_bench)
     builds = build_times(a.buildtime)
@@ -75,19 +88,24 @@ def main():
     to_cpu, to_jax = [], []
     for g in games:
         r = gpu_bench(os.path.join(a.gpu_bench, g + ".txt"))
+        if r["layout"] == "?" and a.layouts:
+            r["layout"] = gpu_bench(os.path.join(a.layouts, g + ".txt"))["layout"]
         small = " | ".join(si(r["rows"][b]) if b in r["rows"] else "" for b in SMALL_BATCHES)
         ratio_cpu = r["best"] / cpu[g]
         ratio_jax = r["best"] / (PUZZLEJAX_M[g] * 1e6)
         to_cpu.append(ratio_cpu)
         to_jax.append(ratio_jax)
         print(f"| {g} | {r['layout']} | {si(r['best'])} ({r['best_batch']:,}) | {small} | {si(cpu[g])} | {ratio_cpu:,.0f}× | "
-              f"{PUZZLEJAX_M[g]:g} M | {ratio_jax:,.0f}× | {builds[g]:.2f} s |")
-    seconds = sorted(builds[g] for g in games)
+              f"{PUZZLEJAX_M[g]:g} M | {ratio_jax:,.0f}× | {seconds_range(builds[g])} |")
+    repeats = max(len(builds[g]) for g in games)
     print()
     print(f"GPU / CPU: geometric mean {geomean(to_cpu):,.0f}× (bar 600×), lowest {min(to_cpu):,.0f}× (bar 400×); "
           f"{sum(v >= 400 for v in to_cpu)} of {len(games)} games at 400× or more.")
     print(f"GPU / PuzzleJAX: geometric mean {geomean(to_jax):,.0f}× (bar 1,000×), lowest {min(to_jax):,.0f}× (bar 300×).")
-    print(f"Cold CUDA build: median {seconds[len(seconds) // 2]:.2f} s (bar 1.5 s), maximum {seconds[-1]:.2f} s (bar 3 s).")
+    print(f"Cold CUDA build ({repeats} a game): median over the games of each one's median "
+          f"{median([median(builds[g]) for g in games]):.2f} s (bar 1.5 s); slowest game's median "
+          f"{max(median(builds[g]) for g in games):.2f} s, slowest single build {max(max(builds[g]) for g in games):.2f} s "
+          f"(bar 3 s).")
 
 
 if __name__ == "__main__":
