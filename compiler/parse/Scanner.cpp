@@ -443,6 +443,13 @@ void Scanner::objectName(LineCursor& s, bool sol) {
     }
     if (kKeywords.count(name)) warning("object " + toUpperAscii(name) + " is named after a keyword; avoid that", &s);
     game_.nameLines[name] = line_;
+    if (!sol && currentObject_.empty()) {
+        // A second name on a line whose first was not an object's (the
+        // reference fails on the colours that follow, tests/fuzz/regressions/
+        // frontend/name-before-any-object): there is no object to alias.
+        error("the name " + toUpperAscii(name) + " follows no object: an object's first name starts its line", &s);
+        return;
+    }
     if (sol) {
         currentObject_ = name;
         game_.objectIndex[name] = game_.objects.size();
