@@ -19,6 +19,7 @@ import argparse
 import math
 import os
 import re
+from statistics import median
 
 # PuzzleJAX's best steps/s on the same GPU model (issue 4), millions.
 PUZZLEJAX_M = {"sokoban": 4.75, "notsnake": 6.97, "blocks": 1.11, "traveling": 7.23, "match3": 2.55,
@@ -49,11 +50,6 @@ def build_times(path):
     for m in re.finditer(r"^(\w+)\s+jobs all exit 0\s+total\s+([\d.]+) s", open(path).read(), re.M):
         times.setdefault(m.group(1), []).append(float(m.group(2)))
     return times
-
-
-def median(values):
-    v = sorted(values)
-    return (v[(len(v) - 1) // 2] + v[len(v) // 2]) / 2
 
 
 def seconds_range(values):
