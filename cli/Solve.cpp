@@ -68,7 +68,7 @@ nlohmann::ordered_json record(const search::SolveResult& r, int level, int entry
 int runSolve(const SolveCommandOptions& o) {
     const auto algorithm = search::parseAlgorithm(o.algorithm);
     if (!algorithm) {
-        fmt::print(stderr, "psc solve: unknown algorithm '{}' (bfs, astar, wastar, greedy, portfolio)\n", o.algorithm);
+        fmt::print(stderr, "psc solve: unknown algorithm '{}' (bfs, astar, wastar, greedy, beam, portfolio)\n", o.algorithm);
         return 2;
     }
     if (!o.levels.empty() && o.allLevels) {
@@ -115,6 +115,7 @@ int runSolve(const SolveCommandOptions& o) {
     so.maxStates = o.maxStates;
     so.maxMemory = static_cast<size_t>(o.maxMemoryMb * 1024 * 1024);
     so.weight = o.weight;
+    so.beamWidth = o.beamWidth;
     so.space.backend = o.backend == "cuda" ? search::Backend::Cuda : search::Backend::Cpu;
     so.space.threads = o.threads;
     so.space.device = o.device;

@@ -24,6 +24,7 @@ struct SolveCommandOptions {
     uint64_t maxStates = 0;
     double maxMemoryMb = 0;  // 0: half of the machine's memory
     double weight = 2;
+    uint64_t beamWidth = 0;  // 0: by backend (search::SolveOptions)
     uint64_t seed = 0;
     std::string fromInputs;
     std::string format = "text";

@@ -210,8 +210,8 @@ int main(int argc, char** argv) {
     solve->add_option("game", solveOptions.gamePath, "the game")->required();
     solve->add_option("--level", solveOptions.levels, "playable levels, from 0 (a comma list); default 0")->delimiter(',');
     solve->add_flag("--all-levels", solveOptions.allLevels, "every playable level");
-    solve->add_option("--algorithm", solveOptions.algorithm, "bfs (shortest), astar, wastar, greedy, portfolio")
-        ->check(CLI::IsMember({"bfs", "astar", "wastar", "greedy", "portfolio"}));
+    solve->add_option("--algorithm", solveOptions.algorithm, "bfs (shortest), astar, wastar, greedy, beam, portfolio")
+        ->check(CLI::IsMember({"bfs", "astar", "wastar", "greedy", "beam", "portfolio"}));
     solve->add_option("--backend", solveOptions.backend, "where states are expanded: cpu or cuda")
         ->check(CLI::IsMember({"cpu", "cuda"}));
     solve->add_option("--device", solveOptions.device, "CUDA device ordinal (--backend cuda)")->check(CLI::Range(0, 1023));
@@ -221,6 +221,7 @@ int main(int argc, char** argv) {
     solve->add_option("--max-memory", solveOptions.maxMemoryMb, "MB for the states of one search; 0: half the machine's memory")
         ->check(CLI::NonNegativeNumber);
     solve->add_option("--weight", solveOptions.weight, "wastar's weight on the estimate (>= 1)");
+    solve->add_option("--beam-width", solveOptions.beamWidth, "states beam search keeps a layer; 0: 10,000 on the CPU, 100,000 on the GPU");
     solve->add_option("--seed", solveOptions.seed, "the level's random seed (games that use random)");
     solve->add_option("--from-inputs", solveOptions.fromInputs, "inputs (u d l r x) played before searching");
     solve->add_option("--format", solveOptions.format, "text, or json: one object per level and line")

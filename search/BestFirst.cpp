@@ -34,8 +34,7 @@ SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight) {
     // Best-first keeps batches small: each batch is chosen on estimates that
     // the previous batch's children may improve on.
     const size_t batch = std::min<size_t>(space.maxBatch(), space.backend() == Backend::Cpu ? 256 : 65536);
-    uint32_t root = 0;
-    run.add(space.root().data(), space.rootHash(), StateStore::kNoParent, 0, 0, &root);
+    const uint32_t root = run.addRoot();
     if (space.rootWon()) return run.solved(root);
 
     std::priority_queue<Open> open;
@@ -55,15 +54,8 @@ SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight) {
             taken.push_back(open.top().state);
             open.pop();
         }
-        b.fit(taken.size(), words, inputs, true);
-        for (size_t i = 0; i < taken.size(); ++i) {
-            const uint64_t* key = run.store.key(taken[i]);
-            std::copy(key, key + words, b.keys.begin() + static_cast<std::ptrdiff_t>(i * words));
-            deepest = std::max(deepest, static_cast<int>(run.store.depth(taken[i])));
-        }
-        space.expand(b.keys.data(), taken.size(), b.children.data(), b.flags.data(), b.hashes.data(), b.estimates.data());
-        run.result.expanded += taken.size();
-        run.result.generated += taken.size() * inputs;
+        for (uint32_t state : taken) deepest = std::max(deepest, static_cast<int>(run.store.depth(state)));
+        expandStored(run, taken.data(), taken.size(), b, true);
         fresh.clear();
         freshEstimates.clear();
         for (size_t c = 0; c < taken.size() * inputs; ++c) {

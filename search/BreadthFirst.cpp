@@ -13,8 +13,7 @@ SolveResult breadthFirst(SearchRun& run) {
     StateSpace& space = run.space;
     const size_t words = space.keyWords();
     const size_t inputs = space.inputs().size();
-    uint32_t root = 0;
-    run.add(space.root().data(), space.rootHash(), StateStore::kNoParent, 0, 0, &root);
+    const uint32_t root = run.addRoot();
     if (space.rootWon()) return run.solved(root);
 
     std::vector<uint32_t> layer = {root};
@@ -25,14 +24,7 @@ SolveResult breadthFirst(SearchRun& run) {
         for (size_t begin = 0; begin < layer.size(); begin += space.maxBatch()) {
             if (run.stopped()) return run.finish(Status::Limit);
             const size_t count = std::min(space.maxBatch(), layer.size() - begin);
-            b.fit(count, words, inputs, false);
-            for (size_t i = 0; i < count; ++i) {
-                const uint64_t* key = run.store.key(layer[begin + i]);
-                std::copy(key, key + words, b.keys.begin() + static_cast<std::ptrdiff_t>(i * words));
-            }
-            space.expand(b.keys.data(), count, b.children.data(), b.flags.data(), b.hashes.data());
-            run.result.expanded += count;
-            run.result.generated += count * inputs;
+            expandStored(run, &layer[begin], count, b, false);
             for (size_t c = 0; c < count * inputs; ++c) {
                 if (b.flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");
                 if (b.flags[c] & PSC_EXPAND_WON) return run.solved(layer[begin + c / inputs], static_cast<int>(c % inputs));

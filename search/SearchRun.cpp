@@ -27,11 +27,17 @@ double SearchRun::elapsed() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
-bool SearchRun::stopped() {
+bool SearchRun::stopped(uint64_t unique) {
     if (!result.limit.empty()) return true;
     if (elapsed() >= timeLimit_) result.limit = "time";
-    else if (options_.maxStates && store.size() >= options_.maxStates) result.limit = "states";
+    else if (options_.maxStates && unique >= options_.maxStates) result.limit = "states";
     return !result.limit.empty();
+}
+
+uint32_t SearchRun::addRoot() {
+    uint32_t root = 0;
+    add(space.root().data(), space.rootHash(), StateStore::kNoParent, 0, 0, &root);
+    return root;
 }
 
 StateStore::Insert SearchRun::add(const uint64_t* key, uint64_t hash, uint32_t parent, uint8_t input, uint32_t depth,
@@ -41,27 +47,41 @@ StateStore::Insert SearchRun::add(const uint64_t* key, uint64_t hash, uint32_t p
     return r;
 }
 
-SolveResult& SearchRun::finish(Status status) {
+SolveResult& SearchRun::finish(Status status, uint64_t unique, size_t bytes) {
     result.status = status;
-    result.unique = store.size();
+    result.unique = unique;
     result.seconds = elapsed();
-    result.bytes = std::max(result.bytes, store.bytes());
+    result.bytes = std::max(result.bytes, bytes);
     return result;
 }
 
-SolveResult& SearchRun::solved(uint32_t state, int input) {
+SolveResult& SearchRun::solved(const std::vector<int>& path, int input, uint64_t unique, size_t bytes) {
     result.solution.clear();
-    for (int action : store.path(state)) result.solution += inputLetter(space.inputs()[static_cast<size_t>(action)]);
+    for (int action : path) result.solution += inputLetter(space.inputs()[static_cast<size_t>(action)]);
     if (input >= 0) result.solution += inputLetter(space.inputs()[static_cast<size_t>(input)]);
-    return finish(Status::Solved);
+    return finish(Status::Solved, unique, bytes);
 }
 
-void SearchRun::reportProgress(int depth) {
+void SearchRun::reportProgress(int depth, uint64_t unique, size_t bytes) {
     if (!options_.progress) return;
     const double now = elapsed();
     if (now - lastProgress_ < 1.0) return;
     lastProgress_ = now;
-    options_.progress(Progress{depth, result.expanded, store.size(), now, store.bytes()});
+    options_.progress(Progress{depth, result.expanded, unique, now, bytes});
+}
+
+void expandStored(SearchRun& run, const uint32_t* states, size_t count, ExpandBuffers& b, bool withEstimates) {
+    const size_t words = run.space.keyWords();
+    const size_t inputs = run.space.inputs().size();
+    b.fit(count, words, inputs, withEstimates);
+    for (size_t i = 0; i < count; ++i) {
+        const uint64_t* key = run.store.key(states[i]);
+        std::copy(key, key + words, b.keys.begin() + static_cast<std::ptrdiff_t>(i * words));
+    }
+    run.space.expand(b.keys.data(), count, b.children.data(), b.flags.data(), b.hashes.data(),
+                     withEstimates ? b.estimates.data() : nullptr);
+    run.result.expanded += count;
+    run.result.generated += count * inputs;
 }
 
 void ExpandBuffers::fit(size_t count, size_t words, size_t inputs, bool withEstimates) {

@@ -15,21 +15,31 @@ class SearchRun {
 public:
     SearchRun(StateSpace& space, const SolveOptions& options, double timeLimit);
 
+    const SolveOptions& options() const { return options_; }
+
     StateSpace& space;
     StateStore store;
     SolveResult result;
 
     double elapsed() const;
     // Whether a limit has been reached; sets result.status and result.limit if so.
-    bool stopped();
+    bool stopped() { return stopped(store.size()); }
+    bool stopped(uint64_t unique);  // for a search whose states are kept elsewhere (on the device)
     // Records the path to `state`, then `input` if not negative, as the solution.
-    SolveResult& solved(uint32_t state, int input = -1);
-    SolveResult& finish(Status status);
+    SolveResult& solved(uint32_t state, int input = -1) { return solved(store.path(state), input); }
+    SolveResult& solved(const std::vector<int>& path, int input, uint64_t unique, size_t bytes);
+    SolveResult& finish(Status status) { return finish(status, store.size(), store.bytes()); }
+    SolveResult& finish(Status status, uint64_t unique, size_t bytes);
+    // Stores the space's root (state 0).
+    uint32_t addRoot();
     // Adds a child; sets the limit when the store is full.  Returns Added or Known, or Full.
     StateStore::Insert add(const uint64_t* key, uint64_t hash, uint32_t parent, uint8_t input, uint32_t depth, uint32_t* index);
-    void reportProgress(int depth);
+    void reportProgress(int depth) { reportProgress(depth, store.size(), store.bytes()); }
+    void reportProgress(int depth, uint64_t unique, size_t bytes);
 
 private:
+    SolveResult& solved(const std::vector<int>& path, int input) { return solved(path, input, store.size(), store.bytes()); }
+
     const SolveOptions& options_;
     double timeLimit_;
     std::chrono::steady_clock::time_point start_;
@@ -49,7 +59,15 @@ struct ExpandBuffers {
     void fit(size_t count, size_t words, size_t inputs, bool withEstimates);
 };
 
+// Expands stored states states[0..count) into b (their keys gathered first;
+// estimates too when asked) and counts them in run.result.
+void expandStored(SearchRun& run, const uint32_t* states, size_t count, ExpandBuffers& b, bool withEstimates);
+
 SolveResult breadthFirst(SearchRun& run);
+// Breadth-first with every state kept on the GPU (DeviceStateSet.h): CUDA spaces.
+SolveResult deviceBreadthFirst(SearchRun& run);
+// Breadth-first keeping the `width` best new states of each layer.
+SolveResult beamSearch(SearchRun& run, size_t width);
 // f = gWeight * depth + hWeight * estimate.
 SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight);
 

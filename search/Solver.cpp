@@ -13,6 +13,7 @@ std::optional<Algorithm> parseAlgorithm(std::string_view name) {
     if (name == "astar") return Algorithm::AStar;
     if (name == "wastar") return Algorithm::WeightedAStar;
     if (name == "greedy") return Algorithm::Greedy;
+    if (name == "beam") return Algorithm::Beam;
     if (name == "portfolio") return Algorithm::Portfolio;
     return std::nullopt;
 }
@@ -23,6 +24,7 @@ std::string_view algorithmName(Algorithm algorithm) {
         case Algorithm::AStar: return "astar";
         case Algorithm::WeightedAStar: return "wastar";
         case Algorithm::Greedy: return "greedy";
+        case Algorithm::Beam: return "beam";
         case Algorithm::Portfolio: return "portfolio";
     }
     return "?";
@@ -39,26 +41,38 @@ std::string_view statusName(Status status) {
 
 namespace {
 
+// 10,000 states a layer on the CPU, 100,000 on the GPU, fewer where a
+// layer's children (kept on the host until the cut) would pass 1 GB.
+size_t defaultBeamWidth(const StateSpace& space) {
+    const size_t width = space.backend() == Backend::Cuda ? 100000 : 10000;
+    const size_t byMemory = (size_t{1} << 30) / (space.keyWords() * 8 * space.inputs().size());
+    return std::max<size_t>(1000, std::min(width, byMemory));
+}
+
 SolveResult runOne(StateSpace& space, const SolveOptions& options, Algorithm algorithm, double timeLimit) {
     SearchRun run(space, options, timeLimit);
     switch (algorithm) {
-        case Algorithm::BreadthFirst: return breadthFirst(run);
+        case Algorithm::BreadthFirst: return space.backend() == Backend::Cuda ? deviceBreadthFirst(run) : breadthFirst(run);
         case Algorithm::AStar: return bestFirst(run, 1, 1);
         case Algorithm::WeightedAStar: return bestFirst(run, 1, options.weight);
         case Algorithm::Greedy: return bestFirst(run, 0, 1);
+        case Algorithm::Beam: return beamSearch(run, options.beamWidth ? options.beamWidth : defaultBeamWidth(space));
         case Algorithm::Portfolio: break;
     }
     throw std::logic_error("runOne: a portfolio is not one search");
 }
 
 // Breadth-first for a sixth of the time (the shortest solution when it
-// finishes), greedy best-first until half the time has passed (the most
-// levels breadth-first leaves, in docs/search.md's measurements), then
-// weighted A* with what is left.  Each stage starts afresh: memory is freed
-// between them.
+// finishes), beam search until half the time has passed (the most levels
+// breadth-first leaves, in docs/search.md's measurements), greedy best-first
+// until three quarters, then weighted A* with what is left.  A stage that
+// settles nothing early (a beam that empties, a store that fills) leaves its
+// time to the next.  Each stage starts afresh: memory is freed between them.
 SolveResult portfolio(StateSpace& space, const SolveOptions& options) {
-    const std::pair<Algorithm, double> stages[] = {
-        {Algorithm::BreadthFirst, 1.0 / 6}, {Algorithm::Greedy, 1.0 / 2}, {Algorithm::WeightedAStar, 1.0}};
+    const std::pair<Algorithm, double> stages[] = {{Algorithm::BreadthFirst, 1.0 / 6},
+                                                   {Algorithm::Beam, 1.0 / 2},
+                                                   {Algorithm::Greedy, 3.0 / 4},
+                                                   {Algorithm::WeightedAStar, 1.0}};
     SolveResult total;
     for (const auto& [algorithm, until] : stages) {
         const double budget = options.timeLimit * until - total.seconds;

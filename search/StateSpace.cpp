@@ -144,6 +144,17 @@ void StateSpace::expandStaged(size_t count) {
           "expanding states");
 }
 
+void StateSpace::expandResident(const void* deviceKeys, size_t count) {
+    if (options_.backend != Backend::Cuda) throw std::logic_error("StateSpace::expandResident: not a CUDA space");
+    if (count > maxBatch_) throw std::logic_error("StateSpace::expandResident: more keys than maxBatch()");
+    check(plugin_.expand(batch_, 0, deviceKeys, static_cast<int32_t>(count), static_cast<const int32_t*>(deviceInputs_),
+                         static_cast<int32_t>(inputs_.size()), deviceChildren_, static_cast<uint8_t*>(deviceFlags_),
+                         static_cast<uint64_t*>(deviceHashes_), nullptr),
+          "expanding states");
+}
+
+void StateSpace::setStream(void* stream) { check(plugin_.setStream(batch_, stream), "setting the batch's stream"); }
+
 void StateSpace::synchronize() { check(plugin_.synchronize(batch_), "waiting for the device"); }
 
 void StateSpace::estimate(const uint64_t* keys, size_t count, int32_t* estimates) {

@@ -46,6 +46,7 @@ public:
     int entry() const { return entry_; }
     size_t maxBatch() const { return maxBatch_; }
     Backend backend() const { return options_.backend; }
+    int deviceOrdinal() const { return options_.device; }
 
     // Children of keys[0..count) (count <= maxBatch()): child i * inputs + a
     // of key i under inputs()[a], with its flags (PSC_EXPAND_*), hash and,
@@ -57,6 +58,14 @@ public:
     void stage(const uint64_t* keys, size_t count);
     void expandStaged(size_t count);  // queued on the GPU; synchronize() waits
     void synchronize();
+    // CUDA spaces: children of keys already in device memory, left in the
+    // space's device buffers below, queued on the batch's stream.
+    void expandResident(const void* deviceKeys, size_t count);
+    const void* deviceChildren() const { return deviceChildren_; }
+    const void* deviceFlags() const { return deviceFlags_; }
+    const void* deviceHashes() const { return deviceHashes_; }
+    // The CUDA stream the batch queues its work on (null: the default stream).
+    void setStream(void* stream);
     // psc_estimate_distance of keys[0..count).
     void estimate(const uint64_t* keys, size_t count, int32_t* estimates);
     // Whether playing `inputs` from the start (fromInputs included) wins the level at the last one and not before.

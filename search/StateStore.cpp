@@ -55,6 +55,15 @@ bool StateStore::growTable() {
     return true;
 }
 
+bool StateStore::contains(const uint64_t* key, uint64_t hash) const {
+    const size_t mask = slots_.size() - 1;
+    for (size_t at = hash & mask; slots_[at]; at = (at + 1) & mask) {
+        const uint32_t i = slots_[at] - 1;
+        if (meta(i).hash == hash && std::memcmp(this->key(i), key, keyWords_ * 8) == 0) return true;
+    }
+    return false;
+}
+
 StateStore::Insert StateStore::insert(const uint64_t* key, uint64_t hash, uint32_t parent, uint8_t input, uint32_t depth,
                                       uint32_t* index) {
     size_t mask = slots_.size() - 1;

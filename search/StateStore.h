@@ -25,6 +25,8 @@ public:
     // Adds the state unless its key is known; *index receives its index either way (not when Full).
     Insert insert(const uint64_t* key, uint64_t hash, uint32_t parent, uint8_t input, uint32_t depth, uint32_t* index);
 
+    bool contains(const uint64_t* key, uint64_t hash) const;
+
     size_t size() const { return count_; }
     size_t bytes() const;  // memory held, tables included
     const uint64_t* key(uint32_t i) const { return &keyBlocks_[i >> blockBits_][(i & blockMask_) * keyWords_]; }

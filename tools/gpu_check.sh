@@ -14,6 +14,10 @@
 #             (plugins prebuilt here into out/python-gpu, carried)
 #   expand    search's batched expansion on the GPU (psc bench --expand), every benchmark game's
 #             level 0 and sokoban's level 1, batch sweep
+#   search    breadth-first with its states on the GPU against the host's (tests/search/device_search_test.py,
+#             SEARCH_SECONDS a level, default 20), then one breadth-first search of each of SCALE_LEVELS
+#             (game:level, default notsnake:0 zenpuzzle:0 limerick:6 atlas:8) for SCALE_SECONDS (default 60),
+#             its JSON record and progress lines kept: the whole search's rate and its largest store
 #   solve     psc solve --backend cuda over every level of the benchmark games (bench/solve_report.py),
 #             SOLVE_ALGORITHM (default portfolio), SOLVE_SECONDS a level (default 60), SOLVE_JOBS games at once
 #   cpp       examples/cpp built against the installed psc in device/ (find_package): a CPU
@@ -156,6 +160,19 @@ for stage in "$@"; do
             "$psc" bench "bench/games/$name.txt" --expand --level "$level" --backend cuda --batch "${EXPAND_BATCHES:-1024,16384,262144,1048576}" \
                 --repeats 5 --warmup 1 "${fast[@]}" > "$out/expand/$name.L$level.txt" 2>&1
             echo "$name level $level: $(tail -1 "$out/expand/$name.L$level.txt")"
+        done
+        ;;
+    search)
+        $python tests/search/device_search_test.py "$psc" "${SEARCH_SECONDS:-20}" > "$out/device_search_test.txt" 2>&1
+        echo "device_search_test: exit $?, $(tail -1 "$out/device_search_test.txt")"
+        grep FAIL "$out/device_search_test.txt" | head -20
+        mkdir -p "$out/scale"
+        for spec in ${SCALE_LEVELS:-notsnake:0 zenpuzzle:0 limerick:6 atlas:8}; do
+            name=${spec%:*}
+            level=${spec#*:}
+            "$psc" solve "bench/games/$name.txt" --level "$level" --backend cuda --algorithm bfs \
+                --time-limit "${SCALE_SECONDS:-60}" --format json > "$out/scale/$name.L$level.json" 2> "$out/scale/$name.L$level.progress"
+            echo "$name level $level: $(cat "$out/scale/$name.L$level.json") $(tail -1 "$out/scale/$name.L$level.progress")"
         done
         ;;
     solve)

@@ -7,7 +7,7 @@ from typing import Optional
 
 from .build import find_psc_binary
 
-ALGORITHMS = ("bfs", "astar", "wastar", "greedy", "portfolio")
+ALGORITHMS = ("bfs", "astar", "wastar", "greedy", "beam", "portfolio")
 
 
 class SolveError(RuntimeError):
@@ -27,6 +27,7 @@ def solve(
     seed: int = 0,
     from_inputs: str = "",
     weight: float = 2.0,
+    beam_width: int = 0,
     psc_binary: Optional[str] = None,
 ) -> dict:
     """Searches playable level `level` of the game file `game` and returns its
@@ -41,7 +42,7 @@ def solve(
         find_psc_binary(psc_binary), "solve", str(game), "--level", str(int(level)), "--algorithm", algorithm,
         "--backend", backend, "--time-limit", repr(float(time_limit)), "--max-states", str(int(max_states)),
         "--max-memory", repr(float(max_memory_mb)), "--threads", str(int(threads)), "--seed", str(int(seed)),
-        "--weight", repr(float(weight)), "--format", "json", "--quiet",
+        "--weight", repr(float(weight)), "--beam-width", str(int(beam_width)), "--format", "json", "--quiet",
     ]
     if from_inputs:
         command += ["--from-inputs", from_inputs]

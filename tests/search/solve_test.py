@@ -81,7 +81,7 @@ for game, level, status, solution in EXPECTED:
         check(wins_exactly_at_end(GAMES / game, level, r["solution"]), f"{what}: replay wins at the end")
 
 # Every algorithm finds a solution that wins; breadth-first's is never longer.
-for algorithm in ["astar", "wastar", "greedy", "portfolio"]:
+for algorithm in ["astar", "wastar", "greedy", "beam", "portfolio"]:
     for game, level in [("maze.txt", 1), ("push.txt", 0), ("bump_plain.txt", 1)]:
         code, records, err = solve(GAMES / game, "--level", str(level), "--algorithm", algorithm)
         what = f"{algorithm} {game} level {level}"
@@ -89,6 +89,17 @@ for algorithm in ["astar", "wastar", "greedy", "portfolio"]:
         if records and records[0]["solution"]:
             check(records[0]["algorithm"] == algorithm, f"{what}: algorithm recorded")
             check(wins_exactly_at_end(GAMES / game, level, records[0]["solution"]), f"{what}: replay wins")
+
+# Beam search: a beam wide enough to keep every state is breadth-first (the
+# shortest solution, and an unsolvable level exhausted); one too narrow for
+# the cornered crate's level drops states, so its empty beam is a limit.
+code, records, _ = solve(GAMES / "maze.txt", "--level", "1", "--algorithm", "beam", "--beam-width", "1000")
+check(code == 0 and records[0]["solution"] == "ddrruurr", f"wide beam: the shortest solution ({records})")
+code, records, _ = solve(GAMES / "push.txt", "--level", "1", "--algorithm", "beam", "--beam-width", "1000")
+check(code == 1 and records[0]["status"] == "exhausted", f"wide beam, unsolvable level: exhausted ({records})")
+code, records, _ = solve(GAMES / "push.txt", "--level", "1", "--algorithm", "beam", "--beam-width", "1")
+check(code == 1 and records[0]["status"] == "limit" and records[0].get("limit") == "beam",
+      f"beam of one, unsolvable level: the beam limit ({records})")
 
 # --from-inputs: the search continues from the state those inputs reach.
 code, records, _ = solve(GAMES / "maze.txt", "--level", "1", "--from-inputs", "dd")

@@ -1,0 +1,48 @@
+// Breadth-first search with its states on the GPU: as BreadthFirst.cpp, layer
+// by layer and a child tested for a win when generated, but the states stay
+// in a DeviceStateSet, where each layer is a contiguous range expanded in
+// batches straight from the store.  It finds the same solution as the host
+// search (the stores hold the same states in the same order); the host only
+// reads each batch's outcome.
+#include "DeviceStateSet.h"
+#include "SearchRun.h"
+
+namespace psc::search {
+
+SolveResult deviceBreadthFirst(SearchRun& run) {
+    StateSpace& space = run.space;
+    DeviceStateSet set(space, run.options().maxMemory);
+    if (!set.addRoot()) {
+        run.result.limit = "memory";
+        return run.finish(Status::Limit, 0, set.bytes());
+    }
+    if (space.rootWon()) return run.solved({}, -1, set.size(), set.bytes());
+    const size_t inputs = space.inputs().size();
+    size_t layerBegin = 0;
+    size_t layerEnd = 1;
+    for (uint32_t depth = 0; layerBegin < layerEnd; ++depth) {
+        for (size_t begin = layerBegin; begin < layerEnd;) {
+            if (run.stopped(set.size())) return run.finish(Status::Limit, set.size(), set.bytes());
+            const size_t count = set.room(std::min(space.maxBatch(), layerEnd - begin));
+            if (count == 0) {
+                run.result.limit = "memory";
+                return run.finish(Status::Limit, set.size(), set.bytes());
+            }
+            const DeviceStateSet::Outcome o = set.expand(static_cast<uint32_t>(begin), count);
+            run.result.expanded += count;
+            run.result.generated += count * inputs;
+            if (o.won) return run.solved(set.path(o.parent), o.input, set.size(), set.bytes());
+            if (o.full) {
+                run.result.limit = "memory";
+                return run.finish(Status::Limit, set.size(), set.bytes());
+            }
+            begin += count;
+            run.reportProgress(static_cast<int>(depth), set.size(), set.bytes());
+        }
+        layerBegin = layerEnd;
+        layerEnd = set.size();
+    }
+    return run.finish(Status::Exhausted, set.size(), set.bytes());
+}
+
+}  // namespace psc::search

@@ -1,0 +1,302 @@
+#include "DeviceStateSet.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+#include <string>
+
+#include "CacheFile.h"
+#include "CudaCompiler.h"
+#include "PluginBuilder.h"
+#include "StateStore.h"
+#include "base/Sha1.h"
+
+namespace psc::search {
+
+const std::string& stateSetKernelSource();  // state_set_kernels.cu, embedded at build time
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The kernels' structures (state_set_kernels.cu), byte for byte.
+struct Counters {
+    uint64_t won;
+    uint32_t size;
+    uint32_t base;
+    uint32_t invalid;
+    uint32_t overflow;
+};
+
+struct StateSetArgs {
+    CuDevicePtr keys, parents, inputs, hashes, table;
+    uint32_t tableMask, tableBits, words, capacity;
+};
+
+constexpr unsigned kCountBlock = 1024;  // PSC_BLOCK
+constexpr unsigned kBlock = 256;
+constexpr uint64_t kNoWin = ~uint64_t{0};
+// State indices stay below the kernels' candidate bit.
+constexpr size_t kMaxCapacity = (size_t{1} << 31) - 1;
+
+// A table of 2^bits slots holds `capacity` states at most three quarters full.
+int tableBitsFor(size_t capacity) {
+    int bits = 10;
+    while ((size_t{3} << bits) / 4 < capacity) ++bits;
+    return bits;
+}
+
+// The kernels for this device's architecture: from psc's cache, or compiled by NVRTC into it.
+std::string kernelImage(const CudaDriver& d, int device) {
+    int major = 0, minor = 0;
+    constexpr int kMajor = 75, kMinor = 76;  // CU_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY_MAJOR, _MINOR
+    d.cuDeviceGetAttribute(&major, kMajor, device);
+    d.cuDeviceGetAttribute(&minor, kMinor, device);
+    const int arch = major * 10 + minor;
+    const std::string& source = stateSetKernelSource();
+    const fs::path path = fs::path(defaultCacheDir()) / "search" /
+                          (sha1Hex(source + "\nsm_" + std::to_string(arch)) + ".cubin");
+    if (std::ifstream in(path, std::ios::binary); in) {
+        std::string image((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (!image.empty()) return image;
+    }
+    CudaCompileOptions options;
+    options.architecture = arch;
+    const CudaCompileResult r = compileCuda(source, "psc_state_set", options);
+    if (!r.ok) throw std::runtime_error("compiling search's GPU kernels for sm_" + std::to_string(arch) + ": " + r.log);
+    std::string image(r.cubin.begin(), r.cubin.end());
+    std::error_code ec;
+    fs::create_directories(path.parent_path(), ec);
+    writeCacheFile(path, image);  // a cache: without it the next search compiles again
+    return image;
+}
+
+const CudaDriver& driverOrThrow() {
+    std::string problem;
+    const CudaDriver* d = cudaDriver(&problem);
+    if (!d) throw std::runtime_error(problem);
+    return *d;
+}
+
+}  // namespace
+
+void DeviceStateSet::check(CuResult result, const char* what) const {
+    if (result) throw std::runtime_error(cudaErrorText(result, what));
+}
+
+DeviceStateSet::DeviceStateSet(StateSpace& space, size_t memoryLimit)
+    : space_(space), d_(driverOrThrow()), words_(space.keyWords()) {
+    int ordinal = space.deviceOrdinal();
+    check(d_.cuDeviceGet(&device_, ordinal), "selecting the CUDA device");
+    check(d_.cuDevicePrimaryCtxRetain(&context_, device_), "opening the CUDA context");
+    CudaContextScope scope(context_);
+    const std::string image = kernelImage(d_, device_);
+    check(d_.cuModuleLoadData(&module_, image.data()), "loading search's GPU kernels");
+    const std::pair<CuFunction*, const char*> kernels[] = {{&insert_, "psc_set_insert"},
+                                                          {&count_, "psc_set_count"},
+                                                          {&scan_, "psc_set_scan"},
+                                                          {&append_, "psc_set_append"},
+                                                          {&rehash_, "psc_set_rehash"}};
+    for (const auto& [f, name] : kernels) check(d_.cuModuleGetFunction(f, module_, name), name);
+    check(d_.cuStreamCreate(&stream_, 0), "creating a CUDA stream");
+    space_.setStream(stream_);
+
+    const size_t children = space.maxBatch() * space.inputs().size();
+    const size_t blocks = (children + kCountBlock - 1) / kCountBlock;
+    check(d_.cuMemAlloc(&slotOf_, children * 4), "allocating device memory for search");
+    check(d_.cuMemAlloc(&blockCounts_, std::max<size_t>(blocks, 1) * 4), "allocating device memory for search");
+    check(d_.cuMemAlloc(&counters_, sizeof(Counters)), "allocating device memory for search");
+    const Counters start{kNoWin, 0, 0, 0, 0};
+    check(d_.cuMemcpyHtoD(counters_, &start, sizeof start), "clearing search's counters");
+
+    size_t free = 0, total = 0;
+    check(d_.cuMemGetInfo(&free, &total), "reading the device's free memory");
+    const size_t usable = free / 10 * 9;
+    memoryLimit_ = memoryLimit ? std::min(memoryLimit, usable) : usable;
+    // Room for the first batches' children; later batches double it.
+    grow(std::max<size_t>(size_t{1} << 16, children + 1), 1);
+}
+
+DeviceStateSet::~DeviceStateSet() {
+    CudaContextScope scope(context_);
+    if (stream_) {
+        d_.cuStreamSynchronize(stream_);
+        try {
+            space_.setStream(nullptr);
+        } catch (const std::exception&) {
+            // The batch's stream only matters while this set exists.
+        }
+    }
+    freeArrays();
+    for (CuDevicePtr p : {table_, slotOf_, blockCounts_, counters_}) {
+        if (p) d_.cuMemFree(p);
+    }
+    if (module_) d_.cuModuleUnload(module_);
+    if (stream_) d_.cuStreamDestroy(stream_);
+    if (context_) d_.cuDevicePrimaryCtxRelease(device_);
+}
+
+void DeviceStateSet::freeArrays() {
+    for (CuDevicePtr* p : {&keys_, &parents_, &inputs_, &hashes_}) {
+        if (*p) d_.cuMemFree(*p);
+        *p = 0;
+    }
+}
+
+size_t DeviceStateSet::bytes() const {
+    const size_t stateBytes = words_ * 8 + 8 + 4 + 1;
+    return capacity_ * stateBytes + (capacity_ ? size_t{4} << tableBits_ : 0);
+}
+
+void DeviceStateSet::launch(CuFunction f, size_t threads, unsigned block, void** args) {
+    const size_t grid = (threads + block - 1) / block;
+    if (grid == 0) return;
+    check(d_.cuLaunchKernel(f, static_cast<unsigned>(grid), 1, 1, block, 1, 1, 0, stream_, args, nullptr),
+          "launching search's GPU kernels");
+}
+
+// A store of at least `minimum` states (and `wanted` if memory allows, or
+// twice the present one): new arrays, the states copied, the table rebuilt.
+bool DeviceStateSet::grow(size_t wanted, size_t minimum) {
+    const size_t stateBytes = words_ * 8 + 8 + 4 + 1;
+    const size_t held = capacity_ * stateBytes;  // the old arrays live until copied
+    auto cost = [&](size_t states) { return states * stateBytes + (size_t{4} << tableBitsFor(states)); };
+    minimum = std::max(minimum, capacity_ + 1);
+    size_t target = std::min(std::max(wanted, capacity_ * 2), kMaxCapacity);
+    while (target > minimum && held + cost(target) > memoryLimit_) target = std::max(minimum, target - std::max<size_t>(target / 8, 1));
+    if (target < minimum || target > kMaxCapacity || held + cost(target) > memoryLimit_) return false;
+
+    CudaContextScope scope(context_);
+    check(d_.cuStreamSynchronize(stream_), "waiting for the device");
+    if (table_) check(d_.cuMemFree(table_), "freeing device memory");
+    table_ = 0;
+    CuDevicePtr keys = 0, parents = 0, inputs = 0, hashes = 0;
+    const bool allocated = !d_.cuMemAlloc(&keys, target * words_ * 8) && !d_.cuMemAlloc(&parents, target * 4) &&
+                           !d_.cuMemAlloc(&inputs, target) && !d_.cuMemAlloc(&hashes, target * 8);
+    const int bits = tableBitsFor(target);
+    const bool tableAllocated = allocated && !d_.cuMemAlloc(&table_, size_t{4} << bits);
+    if (!tableAllocated) {
+        // The driver's memory ran out before the limit did (another process took some): stop as at the limit.
+        for (CuDevicePtr p : {keys, parents, inputs, hashes}) {
+            if (p) d_.cuMemFree(p);
+        }
+        check(d_.cuMemAlloc(&table_, size_t{4} << tableBits_), "allocating device memory for search");
+        check(d_.cuMemsetD32Async(table_, 0xffffffffu, size_t{1} << tableBits_, stream_), "clearing the table");
+        memoryLimit_ = 0;
+    } else {
+        if (size_) {
+            check(d_.cuMemcpyDtoD(keys, keys_, size_ * words_ * 8), "copying the store");
+            check(d_.cuMemcpyDtoD(parents, parents_, size_ * 4), "copying the store");
+            check(d_.cuMemcpyDtoD(inputs, inputs_, size_), "copying the store");
+            check(d_.cuMemcpyDtoD(hashes, hashes_, size_ * 8), "copying the store");
+        }
+        freeArrays();
+        keys_ = keys;
+        parents_ = parents;
+        inputs_ = inputs;
+        hashes_ = hashes;
+        capacity_ = target;
+        tableBits_ = bits;
+        check(d_.cuMemsetD32Async(table_, 0xffffffffu, size_t{1} << tableBits_, stream_), "clearing the table");
+    }
+    StateSetArgs s{keys_, parents_, inputs_, hashes_, table_, static_cast<uint32_t>((size_t{1} << tableBits_) - 1),
+                   static_cast<uint32_t>(tableBits_), static_cast<uint32_t>(words_), static_cast<uint32_t>(capacity_)};
+    uint32_t size = static_cast<uint32_t>(size_);
+    void* args[] = {&s, &size};
+    launch(rehash_, size_, kBlock, args);
+    check(d_.cuStreamSynchronize(stream_), "rebuilding search's table");
+    return tableAllocated;
+}
+
+bool DeviceStateSet::addRoot() {
+    if (size_) throw std::logic_error("DeviceStateSet::addRoot: the store is not empty");
+    if (capacity_ == 0) return false;
+    CudaContextScope scope(context_);
+    const uint32_t noParent = StateStore::kNoParent;
+    const uint8_t input = 0;
+    const uint64_t hash = space_.rootHash();
+    check(d_.cuMemcpyHtoD(keys_, space_.root().data(), words_ * 8), "storing the first state");
+    check(d_.cuMemcpyHtoD(parents_, &noParent, 4), "storing the first state");
+    check(d_.cuMemcpyHtoD(inputs_, &input, 1), "storing the first state");
+    check(d_.cuMemcpyHtoD(hashes_, &hash, 8), "storing the first state");
+    const uint32_t one = 1;
+    check(d_.cuMemcpyHtoD(counters_ + offsetof(Counters, size), &one, 4), "storing the first state");
+    size_ = 1;
+    StateSetArgs s{keys_, parents_, inputs_, hashes_, table_, static_cast<uint32_t>((size_t{1} << tableBits_) - 1),
+                   static_cast<uint32_t>(tableBits_), static_cast<uint32_t>(words_), static_cast<uint32_t>(capacity_)};
+    uint32_t size = 1;
+    void* args[] = {&s, &size};
+    launch(rehash_, 1, kBlock, args);
+    return true;
+}
+
+size_t DeviceStateSet::room(size_t wanted) {
+    const size_t inputs = space_.inputs().size();
+    if (size_ + wanted * inputs > capacity_) grow(size_ + wanted * inputs, size_ + inputs);
+    if (size_ >= capacity_) return 0;
+    // Most children are known states, so a batch may have more children than
+    // the store has room (the append kernel reports an overflow), but never
+    // more than the table's free slots: a probe must find an empty one.
+    const size_t freeSlots = (size_t{1} << tableBits_) - size_ - 1;
+    return std::min(wanted, freeSlots / inputs);
+}
+
+DeviceStateSet::Outcome DeviceStateSet::expand(uint32_t first, size_t count) {
+    const size_t inputs = space_.inputs().size();
+    if (count > space_.maxBatch() || size_ + count * inputs >= (size_t{1} << tableBits_)) {
+        throw std::logic_error("DeviceStateSet::expand: more states than room() allows");
+    }
+    CudaContextScope scope(context_);
+    space_.expandResident(reinterpret_cast<const void*>(keys_ + first * words_ * 8), count);
+    StateSetArgs s{keys_, parents_, inputs_, hashes_, table_, static_cast<uint32_t>((size_t{1} << tableBits_) - 1),
+                   static_cast<uint32_t>(tableBits_), static_cast<uint32_t>(words_), static_cast<uint32_t>(capacity_)};
+    CuDevicePtr children = reinterpret_cast<CuDevicePtr>(space_.deviceChildren());
+    CuDevicePtr flags = reinterpret_cast<CuDevicePtr>(space_.deviceFlags());
+    CuDevicePtr hashes = reinterpret_cast<CuDevicePtr>(space_.deviceHashes());
+    uint32_t n = static_cast<uint32_t>(count * inputs);
+    uint32_t inputCount = static_cast<uint32_t>(inputs);
+    uint32_t firstParent = first;
+    uint32_t blocks = (n + kCountBlock - 1) / kCountBlock;
+    void* insertArgs[] = {&s, &children, &flags, &hashes, &n, &inputCount, &firstParent, &slotOf_, &counters_};
+    launch(insert_, n, kBlock, insertArgs);
+    void* countArgs[] = {&table_, &slotOf_, &n, &blockCounts_};
+    launch(count_, size_t{blocks} * kCountBlock, kCountBlock, countArgs);
+    void* scanArgs[] = {&blockCounts_, &blocks, &counters_};
+    launch(scan_, kCountBlock, kCountBlock, scanArgs);
+    void* appendArgs[] = {&s, &children, &hashes, &slotOf_, &n, &inputCount, &firstParent, &blockCounts_, &counters_};
+    launch(append_, size_t{blocks} * kCountBlock, kCountBlock, appendArgs);
+    check(d_.cuStreamSynchronize(stream_), "expanding states on the device");
+    Counters c{};
+    check(d_.cuMemcpyDtoH(&c, counters_, sizeof c), "reading search's counters");
+    if (c.invalid) throw std::runtime_error("the plugin refused to expand a state");
+    size_ = std::min<size_t>(c.size, capacity_);
+    Outcome o;
+    o.full = c.overflow != 0;
+    if (c.won != kNoWin) {
+        o.won = true;
+        o.parent = static_cast<uint32_t>(c.won >> 8);
+        o.input = static_cast<int>(c.won & 0xff);
+    }
+    return o;
+}
+
+std::vector<int> DeviceStateSet::path(uint32_t state) const {
+    CudaContextScope scope(context_);
+    std::vector<int> inputs;
+    for (;;) {
+        uint32_t parent = 0;
+        uint8_t input = 0;
+        check(d_.cuMemcpyDtoH(&parent, parents_ + size_t{state} * 4, 4), "reading a solution");
+        if (parent == StateStore::kNoParent) break;
+        check(d_.cuMemcpyDtoH(&input, inputs_ + state, 1), "reading a solution");
+        inputs.push_back(input);
+        state = parent;
+    }
+    std::reverse(inputs.begin(), inputs.end());
+    return inputs;
+}
+
+}  // namespace psc::search

@@ -1,0 +1,178 @@
+// Duplicate detection for breadth-first search on the GPU: the kernels of
+// DeviceStateSet (DeviceStateSet.h says how they fit together), compiled by
+// NVRTC once per machine and cached.  Game-independent: keys are `words`
+// 64-bit words long.
+//
+// The table holds, per slot, a state's index in the store, or a child of the
+// batch being inserted (kCandidate | its index among the children), or
+// kEmpty.  Equal children of one batch meet in one slot, where the smallest
+// index wins (atomicMin), so the store receives each new state once, from
+// the first parent and input that reach it, in the children's order: the
+// same states, in the same order, as the host's store (search/StateStore.h).
+
+typedef unsigned int u32;
+typedef unsigned long long u64;
+
+#define PSC_EMPTY 0xffffffffu
+#define PSC_CANDIDATE 0x80000000u
+#define PSC_BLOCK 1024  // threads a block of the count and append kernels: one count per PSC_BLOCK children
+
+// psc_expand's flags (runtime/psc_plugin.h).
+#define PSC_WON 1u
+#define PSC_UNCHANGED 2u
+#define PSC_INVALID 8u
+
+struct StateSet {
+    u64* keys;               // capacity * words
+    u32* parents;            // the state each was first reached from
+    unsigned char* inputs;   // and by which input (its index among the search's inputs)
+    u64* hashes;             // psc_expand's hash of each key, for rebuilding the table when the store grows
+    u32* table;              // 2^tableBits slots
+    u32 tableMask;
+    u32 tableBits;
+    u32 words;
+    u32 capacity;
+};
+
+// What the host reads after each batch.
+struct Counters {
+    u64 won;        // (parent << 8 | input) of the first winning child, or all ones
+    u32 size;       // states in the store
+    u32 base;       // the store's size before the last batch's states
+    u32 invalid;    // a child the plugin refused to expand
+    u32 overflow;   // new states the store had no room for
+};
+
+// Multiplicative hashing, so that the slot depends on every bit of the key's hash.
+__device__ __forceinline__ u32 slotOfHash(u64 hash, u32 bits) {
+    return static_cast<u32>((hash * 0x9E3779B97F4A7C15ull) >> (64 - bits));
+}
+
+__device__ __forceinline__ bool sameKey(const u64* a, const u64* b, u32 words) {
+    for (u32 i = 0; i < words; ++i) {
+        if (a[i] != b[i]) return false;
+    }
+    return true;
+}
+
+__device__ __forceinline__ bool isNew(const u32* table, const u32* slotOf, u32 child) {
+    const u32 slot = slotOf[child];
+    return slot != PSC_EMPTY && table[slot] == (PSC_CANDIDATE | child);
+}
+
+// One thread a child: records a win, or claims the child's slot unless an
+// equal state is stored or an equal child with a smaller index claimed it.
+extern "C" __global__ void psc_set_insert(StateSet s, const u64* children, const unsigned char* flags, const u64* hashes,
+                                          u32 count, u32 inputCount, u32 firstParent, u32* slotOf, Counters* counters) {
+    const u32 child = blockIdx.x * blockDim.x + threadIdx.x;
+    if (child >= count) return;
+    slotOf[child] = PSC_EMPTY;
+    const u32 f = flags[child];
+    if (f & PSC_INVALID) {
+        atomicOr(&counters->invalid, 1u);
+        return;
+    }
+    if (f & PSC_WON) {
+        atomicMin(&counters->won, (static_cast<u64>(firstParent + child / inputCount) << 8) | (child % inputCount));
+        return;
+    }
+    if (f & PSC_UNCHANGED) return;
+    const u64* key = children + static_cast<u64>(child) * s.words;
+    const u32 mine = PSC_CANDIDATE | child;
+    // The host keeps the table at most about three quarters full, so the probe ends.
+    for (u32 slot = slotOfHash(hashes[child], s.tableBits);; slot = (slot + 1) & s.tableMask) {
+        u32 held = __ldcg(s.table + slot);
+        if (held == PSC_EMPTY) {
+            held = atomicCAS(s.table + slot, PSC_EMPTY, mine);
+            if (held == PSC_EMPTY) {
+                slotOf[child] = slot;
+                return;
+            }
+        }
+        const u64* other = (held & PSC_CANDIDATE) ? children + static_cast<u64>(held & ~PSC_CANDIDATE) * s.words
+                                                  : s.keys + static_cast<u64>(held) * s.words;
+        if (sameKey(key, other, s.words)) {
+            if (held & PSC_CANDIDATE) {
+                atomicMin(s.table + slot, mine);
+                slotOf[child] = slot;
+            }
+            return;
+        }
+    }
+}
+
+// The new states among each block's PSC_BLOCK children.
+extern "C" __global__ void psc_set_count(const u32* table, const u32* slotOf, u32 count, u32* blockCounts) {
+    const u32 child = blockIdx.x * PSC_BLOCK + threadIdx.x;
+    const int fresh = child < count && isNew(table, slotOf, child);
+    const int n = __syncthreads_count(fresh);
+    if (threadIdx.x == 0) blockCounts[blockIdx.x] = static_cast<u32>(n);
+}
+
+// One block: the block counts become their exclusive prefix sums, and the
+// store's size grows by their total.
+extern "C" __global__ void psc_set_scan(u32* blockCounts, u32 blocks, Counters* counters) {
+    __shared__ u32 sums[PSC_BLOCK];
+    const u32 t = threadIdx.x;
+    const u32 per = (blocks + PSC_BLOCK - 1) / PSC_BLOCK;
+    const u32 begin = min(t * per, blocks);
+    const u32 end = min(begin + per, blocks);
+    u32 own = 0;
+    for (u32 i = begin; i < end; ++i) own += blockCounts[i];
+    sums[t] = own;
+    __syncthreads();
+    for (u32 d = 1; d < PSC_BLOCK; d <<= 1) {
+        const u32 add = t >= d ? sums[t - d] : 0;
+        __syncthreads();
+        sums[t] += add;
+        __syncthreads();
+    }
+    u32 running = sums[t] - own;
+    for (u32 i = begin; i < end; ++i) {
+        const u32 n = blockCounts[i];
+        blockCounts[i] = running;
+        running += n;
+    }
+    if (t == PSC_BLOCK - 1) {
+        counters->base = counters->size;
+        counters->size += sums[t];
+    }
+}
+
+// The new states, in the children's order, appended to the store; their
+// slots then hold their store indices.
+extern "C" __global__ void psc_set_append(StateSet s, const u64* children, const u64* hashes, const u32* slotOf, u32 count,
+                                          u32 inputCount, u32 firstParent, const u32* blockOffsets, Counters* counters) {
+    __shared__ u32 warpCounts[PSC_BLOCK / 32];
+    const u32 child = blockIdx.x * PSC_BLOCK + threadIdx.x;
+    const bool fresh = child < count && isNew(s.table, slotOf, child);
+    const u32 lane = threadIdx.x & 31;
+    const u32 warp = threadIdx.x >> 5;
+    const u32 ballot = __ballot_sync(0xffffffffu, fresh);
+    if (lane == 0) warpCounts[warp] = __popc(ballot);
+    __syncthreads();
+    if (!fresh) return;
+    u32 rank = __popc(ballot & ((1u << lane) - 1));
+    for (u32 w = 0; w < warp; ++w) rank += warpCounts[w];
+    const u64 index = static_cast<u64>(counters->base) + blockOffsets[blockIdx.x] + rank;
+    if (index >= s.capacity) {
+        atomicAdd(&counters->overflow, 1u);
+        return;
+    }
+    const u64* key = children + static_cast<u64>(child) * s.words;
+    u64* to = s.keys + index * s.words;
+    for (u32 i = 0; i < s.words; ++i) to[i] = key[i];
+    s.parents[index] = firstParent + child / inputCount;
+    s.inputs[index] = static_cast<unsigned char>(child % inputCount);
+    s.hashes[index] = hashes[child];
+    s.table[slotOf[child]] = static_cast<u32>(index);
+}
+
+// The stored states [0, size) entered into an empty table (a grown one, or the first state).
+extern "C" __global__ void psc_set_rehash(StateSet s, u32 size) {
+    const u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= size) return;
+    for (u32 slot = slotOfHash(s.hashes[i], s.tableBits);; slot = (slot + 1) & s.tableMask) {
+        if (atomicCAS(s.table + slot, PSC_EMPTY, i) == PSC_EMPTY) return;
+    }
+}

@@ -1,0 +1,83 @@
+#!/usr/bin/python3
+"""Breadth-first search with its states on the GPU (search/DeviceStateSet.h)
+against the host's: on every level asked for, the same status and solution
+(both stores hold the same states in the same order, so the first win is the
+same), on exhausted levels the same number of distinct states, and the limits
+reported as limits.  (A solved level's counts depend on the batch a backend
+expands at once.)  Needs a GPU: run by
+tools/gpu_check.sh's search stage, not by CI.
+
+Usage: device_search_test.py PSC_BINARY [SECONDS_PER_LEVEL]"""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+PSC = sys.argv[1]
+SECONDS = sys.argv[2] if len(sys.argv) > 2 else "20"
+
+# Every level of the test games and the bundled games, and the benchmark
+# games' levels that breadth-first finishes on one CPU thread in seconds.
+GAMES = sorted((REPO / "tests/search/games").glob("*.txt")) + sorted((REPO / "games").glob("*.txt"))
+BENCH_LEVELS = {
+    "sokoban": "0,1", "match3": "0,1", "slidings": "0,1,2,3,4,5,6,7,8,9,10", "kettle": "0,1,2,3,4,5,6,7,8,9,10",
+    "takeheart": "0,1,2,3,4,5,6,7,8,9,10", "traveling": "0,1,2,3,4,5,6,7,8,9,10", "limerick": "0,4,5,8",
+    "constellationz": "0,1,2,3,4,6,7,9", "dictionary": "0", "atlas": "0,1,2,3,5", "blocks": "0",
+}
+failures = []
+checks = 0
+
+
+def check(condition, what):
+    global checks
+    checks += 1
+    if not condition:
+        failures.append(what)
+        print("FAIL:", what, flush=True)
+
+
+def solve(game, backend, *args):
+    done = subprocess.run([PSC, "solve", str(game), "--format", "json", "--quiet", "--algorithm", "bfs",
+                           "--backend", backend, *args], capture_output=True, text=True)
+    return done.returncode, [json.loads(l) for l in done.stdout.splitlines() if l.strip()], done.stderr
+
+
+def compare(game, levels):
+    args = ["--time-limit", SECONDS] + (["--level", levels] if levels else ["--all-levels"])
+    _, cpu, cpu_err = solve(game, "cpu", *args)
+    code, cuda, cuda_err = solve(game, "cuda", *args)
+    check(code in (0, 1) and len(cuda) == len(cpu) and cpu, f"{game.name}: both backends answer ({cpu_err}{cuda_err})")
+    for c, g in zip(cpu, cuda):
+        where = f"{game.name} level {c['level']}"
+        if c["status"] == "limit" or g["status"] == "limit":
+            print(f"  {where}: a limit (cpu {c.get('limit')}, cuda {g.get('limit')}), not compared")
+            continue
+        fields = ("status", "solution", "length") if c["status"] == "solved" else ("status", "expanded", "unique_states")
+        for field in fields:
+            check(c.get(field) == g.get(field), f"{where}: {field} cpu {c.get(field)!r} cuda {g.get(field)!r}")
+        print(f"  {where}: {g['status']} {g.get('length', '')} ({g['unique_states']} states; "
+              f"cpu {c['seconds']:.2f} s, cuda {g['seconds']:.2f} s)", flush=True)
+
+
+for game in GAMES:
+    compare(game, None)
+for name, levels in BENCH_LEVELS.items():
+    compare(REPO / "bench/games" / f"{name}.txt", levels)
+
+# Limits stop the search and say which.
+game = REPO / "bench/games/notsnake.txt"
+code, records, err = solve(game, "cuda", "--level", "0", "--max-states", "100000")
+check(code == 1 and records and records[0]["status"] == "limit" and records[0]["limit"] == "states",
+      f"notsnake --max-states: a states limit ({records} {err})")
+code, records, err = solve(game, "cuda", "--level", "0", "--max-memory", "8")
+check(code == 1 and records and records[0]["status"] == "limit" and records[0]["limit"] == "memory",
+      f"notsnake --max-memory 8 MB: a memory limit ({records} {err})")
+# Atlas's large keys: far from its memory limit in 2 s.
+code, records, err = solve(REPO / "bench/games/atlas.txt", "cuda", "--level", "9", "--time-limit", "2")
+check(code == 1 and records and records[0]["status"] == "limit" and records[0]["limit"] == "time",
+      f"atlas level 9 --time-limit 2: a time limit ({records} {err})")
+
+print(f"{checks - len(failures)} of {checks} checks passed")
+sys.exit(1 if failures else 0)
