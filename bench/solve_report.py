@@ -2,14 +2,19 @@
 """psc solve over every level of the benchmark games (bench/games, made by
 bench/extract_games.py), and the tables of docs/search.md.
 
-  bench/solve_report.py run --backend cpu --threads 2 --time-limit 30 --out R.jsonl [--algorithm A] [--games a,b] [--jobs N]
+  bench/solve_report.py run --backend cpu --threads 2 --time-limit 30 --out R.jsonl [--algorithm A] [--games a,b] [--jobs N] [--per-level]
   bench/solve_report.py table R.jsonl [R2.jsonl ...]     per-game table, one column group per file
   bench/solve_report.py levels R.jsonl [R2.jsonl ...]    per-level table
+  bench/solve_report.py searches GAME.LN.json ...         one row per long search (psc solve --format json of
+                                                          one level, named after its game and level)
 
 `run` writes one JSON record per level (psc solve's, plus "game", "seed" and
 "time_limit") and prints progress; the records are what tools/verify_solutions.py
 checks in the original engine.  With --jobs N, N games are searched at once
-(their seconds then include the sharing)."""
+(their seconds then include the sharing).  With --per-level, each level is
+searched by its own psc solve --level N, whose plugin is built for that level
+alone: a game's environments are as large as the largest level built, so a
+small level of a game with a huge one expands faster on its own."""
 
 import argparse
 import concurrent.futures
@@ -26,14 +31,31 @@ PAPER = {"sokoban": "2/2", "match3": "2/2", "limerick": "4/10", "blocks": "1/1",
          "constellationz": "5/5", "atlas": "-"}
 
 
-def solve_game(a, game):
-    path = os.path.join(a.game_dir, game + ".txt")
-    command = [a.psc, "solve", path, "--all-levels", "--format", "json", "--quiet", "--backend", a.backend,
-               "--threads", str(a.threads), "--time-limit", str(a.time_limit), "--algorithm", a.algorithm]
+def search(a, path, levels, time_limit=None):
+    command = [a.psc, "solve", path, *levels, "--format", "json", "--quiet", "--backend", a.backend,
+               "--threads", str(a.threads), "--time-limit", str(time_limit or a.time_limit), "--algorithm", a.algorithm]
     done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if done.returncode == 2:
-        return game, None, done.stderr.strip()[-500:]
-    return game, [json.loads(line) for line in done.stdout.splitlines() if line.strip()], ""
+        return None, done.stderr.strip()[-500:]
+    return [json.loads(line) for line in done.stdout.splitlines() if line.strip()], ""
+
+
+def solve_game(a, game):
+    path = os.path.join(a.game_dir, game + ".txt")
+    if not a.per_level:
+        records, error = search(a, path, ["--all-levels"])
+        return game, records, error
+    # The levels counted by a search that stops at once.
+    records, error = search(a, path, ["--all-levels", "--max-states", "1"], time_limit=0.001)
+    if records is None:
+        return game, None, error
+    by_level = []
+    for level in range(len(records)):
+        mine, error = search(a, path, ["--level", str(level)])
+        if mine is None:
+            return game, None, error
+        by_level += mine
+    return game, by_level, ""
 
 
 def run(a):
@@ -78,6 +100,9 @@ def table(a):
         count = None
         for k, (_, records) in enumerate(runs):
             mine = [r for r in records if r["game"] == game]
+            if not mine:
+                row += " - | - | - |"
+                continue
             count = len(mine) if count is None else count
             solved = [r for r in mine if r["status"] == "solved"]
             fast = [r for r in solved if r["seconds"] <= 10]
@@ -107,6 +132,18 @@ def levels(a):
         print(row)
 
 
+def searches(a):
+    print("| game | level | status | states stored | children generated | seconds | children/s | memory (GB) | length |")
+    print("|---|---:|---|---:|---:|---:|---:|---:|---:|")
+    for path in a.files:
+        with open(path) as f:
+            r = json.loads(f.readline())
+        game = os.path.basename(path).split(".")[0]
+        status = r["status"] if r["status"] != "limit" else f"limit ({r.get('limit')})"
+        print(f"| {game} | {r['level']} | {status} | {r['unique_states']:,} | {r['generated']:,} | {r['seconds']:.2f} | "
+              f"{r['generated'] / r['seconds']:,.0f} | {r['memory_bytes'] / 1e9:.1f} | {r['length'] or ''} |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="command", required=True)
@@ -119,12 +156,13 @@ def main():
     r.add_argument("--time-limit", type=float, default=30)
     r.add_argument("--algorithm", default="bfs")
     r.add_argument("--jobs", type=int, default=1)
+    r.add_argument("--per-level", action="store_true", help="a psc solve (and a plugin) per level")
     r.add_argument("--out", required=True)
-    for name in ("table", "levels"):
+    for name in ("table", "levels", "searches"):
         t = sub.add_parser(name)
         t.add_argument("files", nargs="+")
     a = ap.parse_args()
-    {"run": run, "table": table, "levels": levels}[a.command](a)
+    {"run": run, "table": table, "levels": levels, "searches": searches}[a.command](a)
 
 
 if __name__ == "__main__":

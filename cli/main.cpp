@@ -218,10 +218,10 @@ int main(int argc, char** argv) {
     solve->add_option("--threads", solveOptions.threads, "CPU threads expanding states")->check(CLI::PositiveNumber);
     solve->add_option("--time-limit", solveOptions.timeLimit, "seconds per level")->check(CLI::PositiveNumber);
     solve->add_option("--max-states", solveOptions.maxStates, "distinct states per level; 0: no limit but memory");
-    solve->add_option("--max-memory", solveOptions.maxMemoryMb, "MB for the states of one search; 0: half the machine's memory")
+    solve->add_option("--max-memory", solveOptions.maxMemoryMb, "MB for the states of one search; 0: half the machine's memory (GPU breadth-first: nine tenths of the free device memory)")
         ->check(CLI::NonNegativeNumber);
     solve->add_option("--weight", solveOptions.weight, "wastar's weight on the estimate (>= 1)");
-    solve->add_option("--beam-width", solveOptions.beamWidth, "states beam search keeps a layer; 0: 10,000 on the CPU, 100,000 on the GPU");
+    solve->add_option("--beam-width", solveOptions.beamWidth, "states beam search keeps a layer; 0: from 256, four times wider each time a beam empties, to 10,000 (CPU) or 100,000 (GPU)");
     solve->add_option("--seed", solveOptions.seed, "the level's random seed (games that use random)");
     solve->add_option("--from-inputs", solveOptions.fromInputs, "inputs (u d l r x) played before searching");
     solve->add_option("--format", solveOptions.format, "text, or json: one object per level and line")

@@ -7,9 +7,10 @@
 //   wastar    weighted A* (f = g + w h), for levels breadth-first cannot finish;
 //   greedy    greedy best-first (f = h, ties to the shallower);
 //   beam      breadth-first keeping the best `beamWidth` new states a layer
-//             (by h): deep solutions in bounded memory, incomplete;
-//   portfolio breadth-first for a sixth of the time, beam until half of
-//             it, greedy until three quarters, then weighted A*.
+//             (by h; by default widening while beams empty): deep solutions
+//             in bounded memory, incomplete;
+//   portfolio breadth-first for a sixth of the time, greedy until half of
+//             it, beam until three quarters, then weighted A*.
 // docs/search.md gives the measurements behind these choices.
 #pragma once
 
@@ -44,9 +45,9 @@ struct SolveOptions {
     Algorithm algorithm = Algorithm::BreadthFirst;
     double timeLimit = 60;    // seconds
     uint64_t maxStates = 0;   // unique states; 0: only memory bounds them
-    size_t maxMemory = 0;     // bytes for the state store; 0: half of the machine's memory
+    size_t maxMemory = 0;     // bytes for the state store; 0: half of the machine's memory (on the GPU, nine tenths of its free memory)
     double weight = 2;        // wastar's w
-    uint64_t beamWidth = 0;   // states a beam layer keeps; 0: 10,000 on the CPU, 100,000 on the GPU (fewer for huge keys)
+    uint64_t beamWidth = 0;   // states a beam layer keeps; 0: widening from 256 to 10,000 on the CPU, 100,000 on the GPU
     SpaceOptions space;
     std::string fromInputs;   // inputs played from the level's start before searching
     std::function<void(const Progress&)> progress;  // called about once a second

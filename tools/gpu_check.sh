@@ -19,7 +19,8 @@
 #             (game:level, default notsnake:0 zenpuzzle:0 limerick:6 atlas:8) for SCALE_SECONDS (default 60),
 #             its JSON record and progress lines kept: the whole search's rate and its largest store
 #   solve     psc solve --backend cuda over every level of the benchmark games (bench/solve_report.py),
-#             SOLVE_ALGORITHM (default portfolio), SOLVE_SECONDS a level (default 60), SOLVE_JOBS games at once
+#             SOLVE_ALGORITHM (default portfolio), SOLVE_SECONDS a level (default 60), SOLVE_JOBS games at once,
+#             SOLVE_PER_LEVEL=1 a psc solve (and plugin) per level
 #   cpp       examples/cpp built against the installed psc in device/ (find_package): a CPU
 #             and a CUDA batch of sokoban stepped with the same actions must observe the same bytes
 #   fuzz      a fuzz campaign on the device machine's cores (tools/fuzz_campaign.sh --jobs $(nproc)), FUZZ_SECONDS
@@ -177,7 +178,7 @@ for stage in "$@"; do
         ;;
     solve)
         $python bench/solve_report.py run --psc "$psc" --backend cuda --time-limit "${SOLVE_SECONDS:-60}" \
-            --algorithm "${SOLVE_ALGORITHM:-portfolio}" ${SOLVE_GAMES:+--games "$SOLVE_GAMES"} --jobs "${SOLVE_JOBS:-1}" \
+            --algorithm "${SOLVE_ALGORITHM:-portfolio}" ${SOLVE_GAMES:+--games "$SOLVE_GAMES"} --jobs "${SOLVE_JOBS:-1}" ${SOLVE_PER_LEVEL:+--per-level} \
             --out "$out/solve_cuda_${SOLVE_ALGORITHM:-portfolio}.jsonl"
         ;;
     fuzz)
