@@ -53,7 +53,7 @@ struct CudaCompileResult {
 // many times.  The driver reserves the bound for every thread the GPU can
 // hold, so a loose one (such as every frame added up) runs out of memory on
 // games with large boards.
-constexpr int kMaxTurnNesting = 3;
+constexpr int kMaxTurnNesting = 3;  // templates/core.h's, which a unit test checks it equals
 constexpr size_t kStackMargin = 1024;
 size_t stackBound(const std::string& log, const std::vector<std::string>& ptx);
 

@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include "CudaCompiler.h"
+#include "Templates.h"
 
 using namespace psc;
 
@@ -101,4 +102,11 @@ TEST_CASE("the stack bound is the heaviest chain of calls from a kernel, a cycle
     const std::vector<std::string> selfCall = {".visible .entry k(\n)\n{\n\tcall.uni \n\tf, \n\t(\n\t);\n}\n"
                                                ".func f(\n)\n{\n\tcall.uni \n\tf, \n\t(\n\t);\n}\n"};
     CHECK(stackBound(frame("k", 10) + frame("f", 100), selfCall) == 10 + kMaxTurnNesting * 100 + kStackMargin);
+}
+
+// The stack bound counts a cycle's frames kMaxTurnNesting times; the
+// generated code allocates that many turns' scratch and traps past it.
+TEST_CASE("the stack bound assumes the turn nesting the generated code allows", "[cuda]") {
+    const std::string declaration = "constexpr int kMaxTurnNesting = " + std::to_string(kMaxTurnNesting) + ";";
+    CHECK(codegen::templates::core().find(declaration) != std::string::npos);
 }
