@@ -12,10 +12,11 @@ namespace psc::search {
 SolveResult deviceBreadthFirst(SearchRun& run) {
     StateSpace& space = run.space;
     DeviceStateSet set(space, run.options().maxMemory);
-    if (!set.addRoot()) {
+    auto memoryFull = [&] {
         run.result.limit = "memory";
-        return run.finish(Status::Limit, 0, set.bytes());
-    }
+        return run.finish(Status::Limit, set.size(), set.bytes());
+    };
+    if (!set.addRoot()) return memoryFull();
     if (space.rootWon()) return run.solved({}, -1, set.size(), set.bytes());
     const size_t inputs = space.inputs().size();
     size_t layerBegin = 0;
@@ -24,18 +25,12 @@ SolveResult deviceBreadthFirst(SearchRun& run) {
         for (size_t begin = layerBegin; begin < layerEnd;) {
             if (run.stopped(set.size())) return run.finish(Status::Limit, set.size(), set.bytes());
             const size_t count = set.room(std::min(space.maxBatch(), layerEnd - begin));
-            if (count == 0) {
-                run.result.limit = "memory";
-                return run.finish(Status::Limit, set.size(), set.bytes());
-            }
+            if (count == 0) return memoryFull();
             const DeviceStateSet::Outcome o = set.expand(static_cast<uint32_t>(begin), count);
             run.result.expanded += count;
             run.result.generated += count * inputs;
             if (o.won) return run.solved(set.path(o.parent), o.input, set.size(), set.bytes());
-            if (o.full) {
-                run.result.limit = "memory";
-                return run.finish(Status::Limit, set.size(), set.bytes());
-            }
+            if (o.full) return memoryFull();
             begin += count;
             run.reportProgress(static_cast<int>(depth), set.size(), set.bytes());
         }

@@ -18,22 +18,23 @@ namespace psc::search {
 
 const std::string& stateSetKernelSource();  // state_set_kernels.cu, embedded at build time
 
+// The kernels' structures (state_set_kernels.cu), byte for byte: StateSet,
+struct DeviceStateSet::KernelArgs {
+    CuDevicePtr keys, parents, inputs, hashes, table;
+    uint32_t tableMask, tableBits, words, capacity;
+};
+
 namespace {
 
 namespace fs = std::filesystem;
 
-// The kernels' structures (state_set_kernels.cu), byte for byte.
+// and Counters.
 struct Counters {
     uint64_t won;
     uint32_t size;
     uint32_t base;
     uint32_t invalid;
     uint32_t overflow;
-};
-
-struct StateSetArgs {
-    CuDevicePtr keys, parents, inputs, hashes, table;
-    uint32_t tableMask, tableBits, words, capacity;
 };
 
 constexpr unsigned kCountBlock = 1024;  // PSC_BLOCK
@@ -89,7 +90,16 @@ void DeviceStateSet::check(CuResult result, const char* what) const {
 
 DeviceStateSet::DeviceStateSet(StateSpace& space, size_t memoryLimit)
     : space_(space), d_(driverOrThrow()), words_(space.keyWords()) {
-    int ordinal = space.deviceOrdinal();
+    try {
+        acquire(memoryLimit);
+    } catch (...) {
+        release();  // the destructor does not run for a constructor that throws
+        throw;
+    }
+}
+
+void DeviceStateSet::acquire(size_t memoryLimit) {
+    int ordinal = space_.deviceOrdinal();
     check(d_.cuDeviceGet(&device_, ordinal), "selecting the CUDA device");
     check(d_.cuDevicePrimaryCtxRetain(&context_, device_), "opening the CUDA context");
     CudaContextScope scope(context_);
@@ -104,7 +114,7 @@ DeviceStateSet::DeviceStateSet(StateSpace& space, size_t memoryLimit)
     check(d_.cuStreamCreate(&stream_, 0), "creating a CUDA stream");
     space_.setStream(stream_);
 
-    const size_t children = space.maxBatch() * space.inputs().size();
+    const size_t children = space_.maxBatch() * space_.inputs().size();
     const size_t blocks = (children + kCountBlock - 1) / kCountBlock;
     check(d_.cuMemAlloc(&slotOf_, children * 4), "allocating device memory for search");
     check(d_.cuMemAlloc(&blockCounts_, std::max<size_t>(blocks, 1) * 4), "allocating device memory for search");
@@ -120,7 +130,10 @@ DeviceStateSet::DeviceStateSet(StateSpace& space, size_t memoryLimit)
     grow(std::max<size_t>(size_t{1} << 16, children + 1), 1);
 }
 
-DeviceStateSet::~DeviceStateSet() {
+DeviceStateSet::~DeviceStateSet() { release(); }
+
+void DeviceStateSet::release() {
+    if (!context_) return;
     CudaContextScope scope(context_);
     if (stream_) {
         d_.cuStreamSynchronize(stream_);
@@ -136,7 +149,7 @@ DeviceStateSet::~DeviceStateSet() {
     }
     if (module_) d_.cuModuleUnload(module_);
     if (stream_) d_.cuStreamDestroy(stream_);
-    if (context_) d_.cuDevicePrimaryCtxRelease(device_);
+    d_.cuDevicePrimaryCtxRelease(device_);
 }
 
 void DeviceStateSet::freeArrays() {
@@ -146,9 +159,21 @@ void DeviceStateSet::freeArrays() {
     }
 }
 
-size_t DeviceStateSet::bytes() const {
-    const size_t stateBytes = words_ * 8 + 8 + 4 + 1;
-    return capacity_ * stateBytes + (capacity_ ? size_t{4} << tableBits_ : 0);
+size_t DeviceStateSet::stateBytes() const { return words_ * 8 + 8 + 4 + 1; }  // key, hash, parent, input
+
+size_t DeviceStateSet::bytes() const { return capacity_ * stateBytes() + (capacity_ ? size_t{4} << tableBits_ : 0); }
+
+DeviceStateSet::KernelArgs DeviceStateSet::kernelArgs() const {
+    return KernelArgs{keys_, parents_, inputs_, hashes_, table_, static_cast<uint32_t>((size_t{1} << tableBits_) - 1),
+                      static_cast<uint32_t>(tableBits_), static_cast<uint32_t>(words_), static_cast<uint32_t>(capacity_)};
+}
+
+// States [0, count) entered into the (empty) table.
+void DeviceStateSet::rehash(size_t count) {
+    KernelArgs s = kernelArgs();
+    uint32_t n = static_cast<uint32_t>(count);
+    void* args[] = {&s, &n};
+    launch(rehash_, count, kBlock, args);
 }
 
 void DeviceStateSet::launch(CuFunction f, size_t threads, unsigned block, void** args) {
@@ -161,9 +186,8 @@ void DeviceStateSet::launch(CuFunction f, size_t threads, unsigned block, void**
 // A store of at least `minimum` states (and `wanted` if memory allows, or
 // twice the present one): new arrays, the states copied, the table rebuilt.
 bool DeviceStateSet::grow(size_t wanted, size_t minimum) {
-    const size_t stateBytes = words_ * 8 + 8 + 4 + 1;
-    const size_t held = capacity_ * stateBytes;  // the old arrays live until copied
-    auto cost = [&](size_t states) { return states * stateBytes + (size_t{4} << tableBitsFor(states)); };
+    const size_t held = capacity_ * stateBytes();  // the old arrays live until copied
+    auto cost = [&](size_t states) { return states * stateBytes() + (size_t{4} << tableBitsFor(states)); };
     minimum = std::max(minimum, capacity_ + 1);
     size_t target = std::min(std::max(wanted, capacity_ * 2), kMaxCapacity);
     while (target > minimum && held + cost(target) > memoryLimit_) target = std::max(minimum, target - std::max<size_t>(target / 8, 1));
@@ -202,11 +226,7 @@ bool DeviceStateSet::grow(size_t wanted, size_t minimum) {
         tableBits_ = bits;
         check(d_.cuMemsetD32Async(table_, 0xffffffffu, size_t{1} << tableBits_, stream_), "clearing the table");
     }
-    StateSetArgs s{keys_, parents_, inputs_, hashes_, table_, static_cast<uint32_t>((size_t{1} << tableBits_) - 1),
-                   static_cast<uint32_t>(tableBits_), static_cast<uint32_t>(words_), static_cast<uint32_t>(capacity_)};
-    uint32_t size = static_cast<uint32_t>(size_);
-    void* args[] = {&s, &size};
-    launch(rehash_, size_, kBlock, args);
+    rehash(size_);
     check(d_.cuStreamSynchronize(stream_), "rebuilding search's table");
     return tableAllocated;
 }
@@ -225,11 +245,7 @@ bool DeviceStateSet::addRoot() {
     const uint32_t one = 1;
     check(d_.cuMemcpyHtoD(counters_ + offsetof(Counters, size), &one, 4), "storing the first state");
     size_ = 1;
-    StateSetArgs s{keys_, parents_, inputs_, hashes_, table_, static_cast<uint32_t>((size_t{1} << tableBits_) - 1),
-                   static_cast<uint32_t>(tableBits_), static_cast<uint32_t>(words_), static_cast<uint32_t>(capacity_)};
-    uint32_t size = 1;
-    void* args[] = {&s, &size};
-    launch(rehash_, 1, kBlock, args);
+    rehash(1);
     return true;
 }
 
@@ -251,8 +267,7 @@ DeviceStateSet::Outcome DeviceStateSet::expand(uint32_t first, size_t count) {
     }
     CudaContextScope scope(context_);
     space_.expandResident(reinterpret_cast<const void*>(keys_ + first * words_ * 8), count);
-    StateSetArgs s{keys_, parents_, inputs_, hashes_, table_, static_cast<uint32_t>((size_t{1} << tableBits_) - 1),
-                   static_cast<uint32_t>(tableBits_), static_cast<uint32_t>(words_), static_cast<uint32_t>(capacity_)};
+    KernelArgs s = kernelArgs();
     CuDevicePtr children = reinterpret_cast<CuDevicePtr>(space_.deviceChildren());
     CuDevicePtr flags = reinterpret_cast<CuDevicePtr>(space_.deviceFlags());
     CuDevicePtr hashes = reinterpret_cast<CuDevicePtr>(space_.deviceHashes());

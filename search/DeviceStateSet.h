@@ -54,8 +54,14 @@ public:
     std::vector<int> path(uint32_t state) const;  // input indices from the root
 
 private:
+    struct KernelArgs;  // the kernels' StateSet
+    void acquire(size_t memoryLimit);
+    void release();
     void check(CuResult result, const char* what) const;
     void launch(CuFunction f, size_t threads, unsigned block, void** args);
+    KernelArgs kernelArgs() const;
+    size_t stateBytes() const;
+    void rehash(size_t count);
     bool grow(size_t wanted, size_t minimum);
     void freeArrays();
 

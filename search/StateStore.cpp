@@ -55,33 +55,29 @@ bool StateStore::growTable() {
     return true;
 }
 
-bool StateStore::contains(const uint64_t* key, uint64_t hash) const {
+// The slot holding `key`, or the empty slot where its probe ends.
+size_t StateStore::probe(const uint64_t* key, uint64_t hash) const {
     const size_t mask = slots_.size() - 1;
-    for (size_t at = hash & mask; slots_[at]; at = (at + 1) & mask) {
-        const uint32_t i = slots_[at] - 1;
-        if (meta(i).hash == hash && std::memcmp(this->key(i), key, keyWords_ * 8) == 0) return true;
-    }
-    return false;
-}
-
-StateStore::Insert StateStore::insert(const uint64_t* key, uint64_t hash, uint32_t parent, uint8_t input, uint32_t depth,
-                                      uint32_t* index) {
-    size_t mask = slots_.size() - 1;
     size_t at = hash & mask;
     for (; slots_[at]; at = (at + 1) & mask) {
         const uint32_t i = slots_[at] - 1;
-        if (meta(i).hash == hash && std::memcmp(this->key(i), key, keyWords_ * 8) == 0) {
-            *index = i;
-            return Insert::Known;
-        }
+        if (meta(i).hash == hash && std::memcmp(this->key(i), key, keyWords_ * 8) == 0) break;
+    }
+    return at;
+}
+
+bool StateStore::contains(const uint64_t* key, uint64_t hash) const { return slots_[probe(key, hash)] != 0; }
+
+StateStore::Insert StateStore::insert(const uint64_t* key, uint64_t hash, uint32_t parent, uint8_t input, uint32_t depth,
+                                      uint32_t* index) {
+    size_t at = probe(key, hash);
+    if (slots_[at]) {
+        *index = slots_[at] - 1;
+        return Insert::Known;
     }
     const size_t tableSize = slots_.size();
     if (!reserveOne()) return Insert::Full;
-    if (slots_.size() != tableSize) {
-        mask = slots_.size() - 1;
-        for (at = hash & mask; slots_[at]; at = (at + 1) & mask) {
-        }
-    }
+    if (slots_.size() != tableSize) at = probe(key, hash);  // the grown table's empty slot for it
     const uint32_t i = static_cast<uint32_t>(count_++);
     std::memcpy(&keyBlocks_[i >> blockBits_][(i & blockMask_) * keyWords_], key, keyWords_ * 8);
     metaBlocks_[i >> blockBits_][i & blockMask_] = Meta{hash, parent, depth, input};

@@ -48,6 +48,7 @@ private:
         uint8_t input;
     };
     const Meta& meta(uint32_t i) const { return metaBlocks_[i >> blockBits_][i & blockMask_]; }
+    size_t probe(const uint64_t* key, uint64_t hash) const;
     bool growTable();
     bool reserveOne();
 
