@@ -44,6 +44,9 @@ public:
                                    messageIndex(rule, messages_), rigidGroupClaim(g_, rule),
                                    static_cast<int>(rule.rows.size())};
         for (const auto& row : rule.rows) record.push_back(addRow(rule, row));
+        const std::vector<int> required = requiredBoards(rule);
+        record.push_back(static_cast<int>(required.size()));
+        record.insert(record.end(), required.begin(), required.end());
         maxRows_ = std::max(maxRows_, static_cast<int>(rule.rows.size()));
         int saved = 0;
         for (const auto& row : rule.rows) {
@@ -64,6 +67,25 @@ public:
     int maxSavedCells() const { return std::max(1, maxSaved_); }
 
 private:
+    // The boards a match needs somewhere, as presence bits (object id, or
+    // kObjects + movement bit): those of the rule's cells' single-board terms.
+    // While one of them is empty the interpreter skips the rule without
+    // building its rows' boards, which is most of what a table step costs.
+    std::vector<int> requiredBoards(const Rule& rule) const {
+        const int objects = std::max(1, g_.objectCount);
+        std::vector<int> required;
+        for (const auto& row : rule.rows) {
+            for (const auto& c : row) {
+                if (c.ellipsis) continue;
+                c.present.forEach([&](size_t id) { required.push_back(static_cast<int>(id)); });
+                c.movementsPresent.forEach([&](size_t bit) { required.push_back(objects + static_cast<int>(bit)); });
+            }
+        }
+        std::sort(required.begin(), required.end());
+        required.erase(std::unique(required.begin(), required.end()), required.end());
+        return required;
+    }
+
     int size() const { return static_cast<int>(data_.size()); }
 
     // The offset of a record with these numbers, written now unless it was before.

@@ -12,7 +12,9 @@
 // Records (offsets are indices into kRuleData):
 //   rule: direction (0 down, 1 up, 2 right, 3 left), flags (1 replacements,
 //         2 ellipses), commands, message (-1: none), rigid claim (0: none),
-//         row count, then each row's offset
+//         row count, then each row's offset, then the count and the
+//         presence bits of the boards every match needs (object id, or
+//         kObjects + movement bit)
 //   row:  cell count, first and second ellipsis (-1: none), each cell's
 //         offset (-1: an ellipsis)
 //   cell: replacement offset (-1: none), term count, terms (each a count of
@@ -42,6 +44,7 @@ PSC_DEVICE PSC_COLD Board tableCellBoard(const Env& e, int cell) {
         Board any = Board::zero();
         for (int i = 0; i < n; ++i) any = any | tableBoard(e, *c++);
         b = k == 0 ? any : b & any;
+        if (!b.any()) return b;
     }
     const int excluded = *c++;
     if (excluded > 0) {
@@ -188,28 +191,30 @@ struct TableMatches {
         return v.s + d * (v.gap0 + v.gap1 + i - 2);
     }
 
-    // The boards of every row, from the board as it is now; false when a row cannot match.
+    // The boards of every row, from the board as it is now; false when a row
+    // cannot match.  Most rules match nowhere, so a row stops at its first
+    // cell whose board leaves no start, before any saved cell is computed.
     PSC_DEVICE PSC_COLD bool prepare(const Env& e, int ruleOffset) {
         rule = ruleOffset;
         rows = kRuleData[rule + 5];
         const int direction = kRuleData[rule];
         d = direction == 0 ? 1 : direction == 1 ? -1 : direction == 2 ? columnOf(e) : -columnOf(e);
         horizontal = direction >= 2;
+        for (int r = 0; r < rows; ++r) {
+            const int* w = kRuleData + row(r);
+            const int prefixEnd = w[1] < 0 ? w[0] : w[1];
+            Board b = tableCellBoard(e, w[3]);
+            for (int i = 1; i < prefixEnd && b.any(); ++i) b = b & shiftBy(tableCellBoard(e, w[3 + i]), i * d);
+            if (!b.any()) return false;
+            rowBoard[r] = b;
+        }
         int savedCount = 0;
         for (int r = 0; r < rows; ++r) {
             const int* w = kRuleData + row(r);
-            const int cells = w[0];
-            const int prefixEnd = w[1] < 0 ? cells : w[1];
-            Board b = tableCellBoard(e, w[3]);
-            for (int i = 1; i < prefixEnd; ++i) b = b & shiftBy(tableCellBoard(e, w[3 + i]), i * d);
-            rowBoard[r] = b;
             savedAt[r] = savedCount;
-            for (int i = prefixEnd; i < cells; ++i) {
+            for (int i = w[1] < 0 ? w[0] : w[1]; i < w[0]; ++i) {
                 if (w[3 + i] >= 0) saved[savedCount++] = tableCellBoard(e, w[3 + i]);
             }
-        }
-        for (int r = 0; r < rows; ++r) {
-            if (!rowBoard[r].any()) return false;
         }
         return true;
     }
@@ -390,15 +395,47 @@ PSC_DEVICE PSC_COLD bool tableApplyNth(Env& e, Turn& t, int rule, long long n) {
     return changed;
 }
 
+// Which boards hold anything (bit b: e.obj[b]; bit kObjects + m: e.mov[m]).
+// A rule needing an empty board matches nowhere and is skipped; the bits are
+// taken again whenever a rule changes the board.
+constexpr int kTablePresenceBits = kObjects + 5 * kLayers;
+struct TablePresence {
+    u64 w[(kTablePresenceBits + 63) / 64];
+
+    PSC_DEVICE PSC_COLD void take(const Env& e) {
+        for (int i = 0; i < (kTablePresenceBits + 63) / 64; ++i) w[i] = 0;
+        for (int b = 0; b < kObjects; ++b) {
+            if (e.obj[b].any()) w[b >> 6] |= u64{1} << (b & 63);
+        }
+        for (int m = 0; m < 5 * kLayers; ++m) {
+            const int b = kObjects + m;
+            if (e.mov[m].any()) w[b >> 6] |= u64{1} << (b & 63);
+        }
+    }
+
+    PSC_DEVICE PSC_INLINE bool allowsRule(int rule) const {
+        const int* q = kRuleData + rule + 6 + kRuleData[rule + 5];
+        const int n = *q++;
+        for (int i = 0; i < n; ++i) {
+            if (!((w[q[i] >> 6] >> (q[i] & 63)) & 1u)) return false;
+        }
+        return true;
+    }
+};
+
 // A group of rules kRuleIndex[first .. first + count): passes over its rules
 // until one changes nothing, at most 200; a random group applies one match
 // drawn from all its rules' matches.
-PSC_DEVICE PSC_COLD bool tableApplyGroup(Env& e, Turn& t, int first, int count, bool random) {
+PSC_DEVICE PSC_COLD bool tableApplyGroup(Env& e, Turn& t, TablePresence& present, int first, int count, bool random) {
     if (!random) {
         bool changed = false;
         for (int pass = 0; pass < 200; ++pass) {
             bool any = false;
-            for (int i = first; i < first + count; ++i) any |= tableApplyRule(e, t, kRuleIndex[i]);
+            for (int i = first; i < first + count; ++i) {
+                if (!present.allowsRule(kRuleIndex[i]) || !tableApplyRule(e, t, kRuleIndex[i])) continue;
+                any = true;
+                present.take(e);
+            }
             if (!any) break;
             changed = true;
         }
@@ -406,12 +443,18 @@ PSC_DEVICE PSC_COLD bool tableApplyGroup(Env& e, Turn& t, int first, int count, 
     }
 #if PSC_USES_RANDOM
     long long total = 0;
-    for (int i = first; i < first + count; ++i) total += tableCountMatches(e, kRuleIndex[i]);
+    for (int i = first; i < first + count; ++i) {
+        if (present.allowsRule(kRuleIndex[i])) total += tableCountMatches(e, kRuleIndex[i]);
+    }
     if (total == 0) return false;
     long long pick = static_cast<long long>(e.rng.uniform() * static_cast<double>(total));
     for (int i = first; i < first + count; ++i) {
-        const long long matches = tableCountMatches(e, kRuleIndex[i]);
-        if (pick < matches) return tableApplyNth(e, t, kRuleIndex[i], pick);
+        const long long matches = present.allowsRule(kRuleIndex[i]) ? tableCountMatches(e, kRuleIndex[i]) : 0;
+        if (pick < matches) {
+            const bool changed = tableApplyNth(e, t, kRuleIndex[i], pick);
+            if (changed) present.take(e);
+            return changed;
+        }
         pick -= matches;
     }
 #endif
@@ -427,10 +470,12 @@ PSC_DEVICE PSC_COLD void tableApplyGroups(Env& e, Turn& t, const int* groups, in
     int i = 0;
     bool propagated = false;
     int jumps = 0;
+    TablePresence present;
+    present.take(e);
     while (i < count) {
         const int* g = groups + 5 * i;
         const bool banned = g[3] >= 0 && ((t.banned >> g[3]) & 1u) != 0;
-        const bool ran = !banned && tableApplyGroup(e, t, g[0], g[1], g[2] != 0);
+        const bool ran = !banned && tableApplyGroup(e, t, present, g[0], g[1], g[2] != 0);
         propagated = ran || propagated;
         if (propagated && g[4] >= 0) {
             i = g[4];

@@ -4,6 +4,7 @@
 # module it loads from lib/psc), the shared libraries it needs that the device
 # image lacks, and the corpus cases to replay
 # (every testsuite trace and a spread sample of scraped traces), compressed.
+# INCLUDE_IDS (a file of case ids) adds those cases to the sample.
 # With FUZZ=1, also the fuzz targets of build-fuzz (stripped) and their seed
 # games, for gpu_check.sh's fuzz stage.
 #   tools/device_bundle.sh [SCRAPED_SAMPLE]      (default 400)
@@ -16,15 +17,17 @@ cmake --install build --prefix device --strip > /dev/null
 git describe --always --dirty > device/COMMIT
 for lib in libantlr4-runtime.so.4.9 libfmt.so.9; do cp "$(ldconfig -p | awk -v l=$lib '$1 == l {print $NF; exit}')" device/lib/; done
 stage=$(mktemp -d)
-/usr/bin/python3 - "$corpus" "$stage" "$sample" <<'PY'
+/usr/bin/python3 - "$corpus" "$stage" "$sample" "${INCLUDE_IDS:-}" <<'PY'
 import json, os, shutil, sys
 sys.path.insert(0, "tools")
 corpus, stage, sample = sys.argv[1], sys.argv[2], int(sys.argv[3])
+included = set(open(sys.argv[4]).read().split()) if sys.argv[4] else set()
 index = json.load(open(os.path.join(corpus, "INDEX.json")))
 traces = [e for e in index if e["kind"] == "trace"]
 from corpus_replay import sample_cases
 chosen = [e for e in traces if e["suite"] == "testsuite"]
 chosen += sample_cases([e for e in traces if e["suite"] == "scraped"], sample)
+chosen += [e for e in traces if e["id"] in included and e not in chosen]
 for e in chosen:
     os.makedirs(os.path.dirname(os.path.join(stage, e["path"])), exist_ok=True)
     shutil.copy(os.path.join(corpus, e["path"]), os.path.join(stage, e["path"]))
