@@ -32,7 +32,7 @@ void emitRuleTableGroups(CodeWriter& out);
 // 0.35 MB: 31 s; Two Worlds, 0.60 MB: 60 s with --rules code), the bar for
 // any game is 60 s, and a CUDA plugin of 0.35 MB takes 36-37 s.  As a table,
 // the largest game (55 MB of rule code) builds in 18 s (CPU) and 23 s (CUDA).
-// Tables step 2-4x slower on one CPU thread, 0.9-1x as fast on the GPU's
+// Tables step 1.7-3x slower on one CPU thread, 0.9-1x as fast on the GPU's
 // memory layout (docs/robustness.md, docs/performance.md).
 constexpr size_t kTableRuleCodeBytes = 400'000;
 
