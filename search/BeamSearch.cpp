@@ -35,9 +35,9 @@ SolveResult beamSearch(SearchRun& run, size_t width) {
         parents.clear();
         childInputs.clear();
         estimates.clear();
-        for (size_t begin = 0; begin < layer.size(); begin += space.maxBatch()) {
+        for (size_t begin = 0, count = 0; begin < layer.size(); begin += count) {
             if (run.stopped()) return run.finish(Status::Limit);
-            const size_t count = std::min(space.maxBatch(), layer.size() - begin);
+            count = run.batchWithinTime(std::min(space.maxBatch(), layer.size() - begin));
             expandStored(run, &layer[begin], count, b, true);
             for (size_t c = 0; c < count * inputs; ++c) {
                 if (b.flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");

@@ -50,7 +50,8 @@ SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight) {
     while (!open.empty()) {
         if (run.stopped()) return run.finish(Status::Limit);
         taken.clear();
-        while (!open.empty() && taken.size() < batch) {
+        const size_t within = run.batchWithinTime(batch);
+        while (!open.empty() && taken.size() < within) {
             taken.push_back(open.top().state);
             open.pop();
         }

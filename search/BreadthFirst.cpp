@@ -21,9 +21,9 @@ SolveResult breadthFirst(SearchRun& run) {
     ExpandBuffers b;
     for (uint32_t depth = 0; !layer.empty(); ++depth) {
         next.clear();
-        for (size_t begin = 0; begin < layer.size(); begin += space.maxBatch()) {
+        for (size_t begin = 0, count = 0; begin < layer.size(); begin += count) {
             if (run.stopped()) return run.finish(Status::Limit);
-            const size_t count = std::min(space.maxBatch(), layer.size() - begin);
+            count = run.batchWithinTime(std::min(space.maxBatch(), layer.size() - begin));
             expandStored(run, &layer[begin], count, b, false);
             for (size_t c = 0; c < count * inputs; ++c) {
                 if (b.flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");

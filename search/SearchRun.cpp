@@ -70,6 +70,22 @@ void SearchRun::reportProgress(int depth, uint64_t unique, size_t bytes) {
     options_.progress(Progress{depth, result.expanded, unique, now, bytes});
 }
 
+size_t SearchRun::batchWithinTime(size_t wanted) const {
+    constexpr size_t kFirstBatch = 16;
+    size_t most = kFirstBatch;
+    if (secondsPerState_ > 0) {
+        const double states = std::max(0.0, timeLimit_ - elapsed()) / 4 / secondsPerState_;
+        most = states >= static_cast<double>(wanted) ? wanted : static_cast<size_t>(states);
+    }
+    return std::max<size_t>(1, std::min(wanted, most));
+}
+
+void SearchRun::countExpansion(size_t count, double seconds) {
+    result.expanded += count;
+    result.generated += count * space.inputs().size();
+    secondsPerState_ = seconds / static_cast<double>(std::max<size_t>(count, 1));
+}
+
 void expandStored(SearchRun& run, const uint32_t* states, size_t count, ExpandBuffers& b, bool withEstimates) {
     const size_t words = run.space.keyWords();
     const size_t inputs = run.space.inputs().size();
@@ -78,10 +94,10 @@ void expandStored(SearchRun& run, const uint32_t* states, size_t count, ExpandBu
         const uint64_t* key = run.store.key(states[i]);
         std::copy(key, key + words, b.keys.begin() + static_cast<std::ptrdiff_t>(i * words));
     }
+    const auto start = std::chrono::steady_clock::now();
     run.space.expand(b.keys.data(), count, b.children.data(), b.flags.data(), b.hashes.data(),
                      withEstimates ? b.estimates.data() : nullptr);
-    run.result.expanded += count;
-    run.result.generated += count * inputs;
+    run.countExpansion(count, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 void ExpandBuffers::fit(size_t count, size_t words, size_t inputs, bool withEstimates) {
