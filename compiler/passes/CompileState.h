@@ -91,8 +91,6 @@ struct CompileState {
     int layerCount() const { return static_cast<int>(ast.collisionLayers.size()); }
     const ObjectInfo* object(const std::string& name) const { return objects.find(name); }
     bool isProperty(const std::string& name) const { return properties.has(name); }
-    // The collision layer a name occupies: its own, or a single-layer property's.
-    std::optional<int> layerOf(const std::string& name) const;
 };
 
 }  // namespace psc::passes

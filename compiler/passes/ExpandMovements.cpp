@@ -1,5 +1,7 @@
 #include "passes/ExpandMovements.h"
 
+#include "passes/RuleSplitting.h"
+
 namespace psc::passes {
 namespace {
 
@@ -50,22 +52,19 @@ struct Expansion {
     JsObject<WordChoice> byWord;
 };
 
-std::vector<WorkRule> expandRule(CompileState& st, WorkRule rule) {
+// `before`: the rules split so far.  Nothing when the rules pass kMaxExpandedRules.
+std::optional<std::vector<WorkRule>> expandRule(CompileState& st, WorkRule rule, size_t before) {
     const int line = rule.line;
-    std::vector<Expansion> result;
-    result.push_back(Expansion{std::move(rule)});
-    bool modified = true;
-    while (modified) {
-        modified = false;
-        for (size_t i = 0; i < result.size(); ++i) {
-            bool remove = false;
-            const Expansion current = result[i];
+    Expansion first;
+    first.rule = std::move(rule);
+    std::optional<std::vector<Expansion>> split =
+        splitRule(st, std::move(first), before, "movements", [](const Expansion& current, std::deque<Expansion>& queue) {
+            bool splits = false;
             for (size_t j = 0; j < current.rule.lhs.size(); ++j) {
                 for (size_t k = 0; k < current.rule.lhs[j].size(); ++k) {
                     const ast::RuleCellItem* ambiguous = firstAmbiguous(current.rule.lhs[j][k]);
                     if (!ambiguous) continue;
-                    remove = true;
-                    modified = true;
+                    splits = true;
                     const std::string name = ambiguous->name;
                     const std::string word = ambiguous->modifier;
                     for (const std::string& direction : concreteDirections(word)) {
@@ -81,16 +80,14 @@ std::vector<WorkRule> expandRule(CompileState& st, WorkRule rule) {
                         }
                         if (WordChoice* choice = next.byWord.find(word)) ++choice->count;
                         else next.byWord.set(word, WordChoice{direction, 1, word});
-                        result.push_back(std::move(next));
+                        queue.push_back(std::move(next));
                     }
                 }
             }
-            if (remove) {
-                result.erase(result.begin() + static_cast<long>(i));
-                --i;
-            }
-        }
-    }
+            return splits;
+        });
+    if (!split) return std::nullopt;
+    std::vector<Expansion>& result = *split;
 
     for (Expansion& e : result) {
         if (!e.expanded) continue;
@@ -142,8 +139,9 @@ std::vector<WorkRule> expandRule(CompileState& st, WorkRule rule) {
 void expandMovements(CompileState& st) {
     std::vector<WorkRule> expanded;
     for (WorkRule& rule : st.rules) {
-        std::vector<WorkRule> copies = expandRule(st, std::move(rule));
-        for (auto& c : copies) expanded.push_back(std::move(c));
+        std::optional<std::vector<WorkRule>> copies = expandRule(st, std::move(rule), expanded.size());
+        if (!copies) break;
+        for (auto& c : *copies) expanded.push_back(std::move(c));
     }
     st.rules = std::move(expanded);
 }

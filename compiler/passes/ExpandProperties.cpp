@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <set>
 
+#include "passes/RuleSplitting.h"
+
 namespace psc::passes {
 namespace {
 
@@ -46,7 +48,8 @@ struct Expansion {
     JsObject<Choice> choices;
 };
 
-std::vector<WorkRule> expandRule(CompileState& st, WorkRule rule) {
+// `before`: the rules split so far.  Nothing when the rules pass kMaxExpandedRules.
+std::optional<std::vector<WorkRule>> expandRule(CompileState& st, WorkRule rule, size_t before) {
     for (size_t i = 0; i < rule.lhs.size(); ++i) {
         for (size_t j = 0; j < rule.lhs[i].size(); ++j) {
             rule.lhs[i][j] = expandNoProperties(st, rule.lhs[i][j]);
@@ -64,40 +67,31 @@ std::vector<WorkRule> expandRule(CompileState& st, WorkRule rule) {
     }
     const int line = rule.line;
 
-    std::vector<Expansion> result;
-    result.push_back(Expansion{std::move(rule)});
-    bool modified = true;
-    while (modified) {
-        modified = false;
-        for (size_t i = 0; i < result.size(); ++i) {
-            bool remove = false;
-            const Expansion current = result[i];
-            for (size_t j = 0; j < current.rule.lhs.size() && !remove; ++j) {
-                for (size_t k = 0; k < current.rule.lhs[j].size() && !remove; ++k) {
+    Expansion first;
+    first.rule = std::move(rule);
+    std::optional<std::vector<Expansion>> split = splitRule(
+        st, std::move(first), before, "properties", [&](const Expansion& current, std::deque<Expansion>& queue) {
+            for (size_t j = 0; j < current.rule.lhs.size(); ++j) {
+                for (size_t k = 0; k < current.rule.lhs[j].size(); ++k) {
                     for (const std::string& property : propertiesIn(st, current.rule.lhs[j][k])) {
                         if (st.singleLayerProperties.has(property) && !ambiguous.count(property)) continue;
-                        remove = true;
-                        modified = true;
-                        const std::vector<std::string> members = *st.properties.at(property);
-                        for (const std::string& member : members) {
+                        for (const std::string& member : *st.properties.at(property)) {
                             Expansion next = current;
                             next.expanded = true;
                             concretize(next.rule.lhs[j][k], property, member);
                             if (!next.rule.rhs.empty()) concretize(next.rule.rhs[j][k], property, member);
                             if (Choice* c = next.choices.find(property)) ++c->count;
                             else next.choices.set(property, Choice{member, 1});
-                            result.push_back(std::move(next));
+                            queue.push_back(std::move(next));
                         }
-                        break;
+                        return true;
                     }
                 }
             }
-            if (remove) {
-                result.erase(result.begin() + static_cast<long>(i));
-                --i;
-            }
-        }
-    }
+            return false;
+        });
+    if (!split) return std::nullopt;
+    std::vector<Expansion>& result = *split;
 
     for (Expansion& e : result) {
         if (!e.expanded) continue;
@@ -124,7 +118,7 @@ std::vector<WorkRule> expandRule(CompileState& st, WorkRule rule) {
         st.diag.error(line, "the right-hand property " + toUpperAscii(remaining) +
                                 " cannot be inferred from the left-hand side (each property on the right needs the "
                                 "same property in the same cell on the left, or a single use of it on the left)");
-        return {};
+        return std::vector<WorkRule>{};
     }
     std::vector<WorkRule> out;
     for (Expansion& e : result) out.push_back(std::move(e.rule));
@@ -136,7 +130,9 @@ std::vector<WorkRule> expandRule(CompileState& st, WorkRule rule) {
 void expandProperties(CompileState& st) {
     std::vector<WorkRule> expanded;
     for (WorkRule& rule : st.rules) {
-        for (auto& r : expandRule(st, std::move(rule))) expanded.push_back(std::move(r));
+        std::optional<std::vector<WorkRule>> copies = expandRule(st, std::move(rule), expanded.size());
+        if (!copies) break;
+        for (auto& c : *copies) expanded.push_back(std::move(c));
     }
     st.rules = std::move(expanded);
 }

@@ -1,6 +1,7 @@
 """Bad input never crashes or hangs psc: each case must end, within a time
-limit, with a non-zero exit and a located error message (bad command-line
-arguments: exit 2 and a message naming the problem)."""
+limit, with a non-zero exit and a located error message, the expected one
+where the case names it (bad command-line arguments: exit 2 and a message
+naming the problem)."""
 import os
 import re
 import subprocess
@@ -30,6 +31,16 @@ LEVELS
 """
 
 
+def splitting_properties():
+    """Ten objects on ten layers, a property of them all, and a rule of six
+    cells of it: 10^6 concrete rules."""
+    names = [f"Stone{i}" for i in range(10)]
+    game = MINIMAL.replace("Player\nblue\n", "Player\nblue\n" + "".join(f"{n}\ngray\n" for n in names))
+    game = game.replace("P = Player\n", "P = Player\nStone = " + " or ".join(names) + "\n")
+    game = game.replace("Player\nRULES", "Player\n" + "\n".join(names) + "\nRULES")
+    return game.replace("RULES\n", "RULES\n[ " + " | ".join(["Stone"] * 6) + " ] -> [ " + " | ".join([""] * 6) + " ]\n")
+
+
 def cases():
     yield "empty file", b""
     yield "binary garbage", bytes((i * 7919 + 13) % 256 for i in range(200_000))
@@ -40,6 +51,9 @@ def cases():
     yield "absurd level size", (MINIMAL + ("." * 2000 + "\n") * 1000).encode()
     yield "deeply nested comments", ("(" * 100_000 + "\n" + MINIMAL).encode()
     yield "very long line", MINIMAL.replace("RULES\n", "RULES\n" + "[ Player ] " * 200_000 + "\n").encode()
+    yield "rules splitting into millions (properties)", splitting_properties().encode(), "more than 131072 rules"
+    yield "rules splitting into millions (movements)", MINIMAL.replace(
+        "RULES\n", "RULES\n[ " + " | ".join(["moving Player"] * 8) + " ] -> [ " + " | ".join(["Player"] * 8) + " ]\n").encode(), "more than 131072 rules"
     yield "NUL bytes", MINIMAL.replace("Player\nblue", "Pla\0yer\nblue").encode()
 
 
@@ -66,7 +80,7 @@ def main():
         print(f"{'ok  ' if ok else 'FAIL'} psc {' '.join(args[:1] + args[2:])}: exit {r.returncode}; {err.strip()[:120]}")
         failures += 0 if ok else 1
     with tempfile.TemporaryDirectory() as tmp:
-        for name, data in cases():
+        for name, data, *message in cases():
             path = os.path.join(tmp, "game.txt")
             with open(path, "wb") as f:
                 f.write(data)
@@ -77,8 +91,10 @@ def main():
                 failures += 1
                 continue
             err = r.stderr.decode("utf-8", "replace")
-            ok = r.returncode == 1 and LOCATED.search(err) is not None
-            print(f"{'ok  ' if ok else 'FAIL'} {name}: exit {r.returncode}; {err.splitlines()[0] if err else '(no message)'}"[:200])
+            located = LOCATED.search(err) is not None and all(m in err for m in message)
+            ok = r.returncode == 1 and located
+            shown = next((line for line in err.splitlines() if message and message[0] in line), err.splitlines()[0] if err else "(no message)")
+            print(f"{'ok  ' if ok else 'FAIL'} {name}: exit {r.returncode}; {shown}"[:200])
             failures += 0 if ok else 1
     # Inputs the front-end fuzzer found (tests/fuzz/regressions/frontend):
     # an answer, an error or not, and no crash.
