@@ -51,9 +51,9 @@ def cases():
     yield "absurd level size", (MINIMAL + ("." * 2000 + "\n") * 1000).encode()
     yield "deeply nested comments", ("(" * 100_000 + "\n" + MINIMAL).encode()
     yield "very long line", MINIMAL.replace("RULES\n", "RULES\n" + "[ Player ] " * 200_000 + "\n").encode()
-    yield "rules splitting into millions (properties)", splitting_properties().encode(), "more than 131072 rules"
+    yield "rules splitting into millions (properties)", splitting_properties().encode(), "more than 65536 rules"
     yield "rules splitting into millions (movements)", MINIMAL.replace(
-        "RULES\n", "RULES\n[ " + " | ".join(["moving Player"] * 8) + " ] -> [ " + " | ".join(["Player"] * 8) + " ]\n").encode(), "more than 131072 rules"
+        "RULES\n", "RULES\n[ " + " | ".join(["moving Player"] * 8) + " ] -> [ " + " | ".join(["Player"] * 8) + " ]\n").encode(), "more than 65536 rules"
     yield "NUL bytes", MINIMAL.replace("Player\nblue", "Pla\0yer\nblue").encode()
 
 
