@@ -3,7 +3,10 @@
 // in a DeviceStateSet, where each layer is a contiguous range expanded in
 // batches straight from the store.  It finds the same solution as the host
 // search (the stores hold the same states in the same order); the host only
-// reads each batch's outcome.
+// reads each batch's outcome.  Batches are sized to the time left, as the
+// host searches' are.
+#include <chrono>
+
 #include "DeviceStateSet.h"
 #include "SearchRun.h"
 
@@ -18,17 +21,16 @@ SolveResult deviceBreadthFirst(SearchRun& run) {
     };
     if (!set.addRoot()) return memoryFull();
     if (space.rootWon()) return run.solved({}, -1, set.size(), set.bytes());
-    const size_t inputs = space.inputs().size();
     size_t layerBegin = 0;
     size_t layerEnd = 1;
     for (uint32_t depth = 0; layerBegin < layerEnd; ++depth) {
         for (size_t begin = layerBegin; begin < layerEnd;) {
             if (run.stopped(set.size())) return run.finish(Status::Limit, set.size(), set.bytes());
-            const size_t count = set.room(std::min(space.maxBatch(), layerEnd - begin));
+            const size_t count = set.room(run.batchWithinTime(std::min(space.maxBatch(), layerEnd - begin)));
             if (count == 0) return memoryFull();
+            const auto start = std::chrono::steady_clock::now();
             const DeviceStateSet::Outcome o = set.expand(static_cast<uint32_t>(begin), count);
-            run.result.expanded += count;
-            run.result.generated += count * inputs;
+            run.countExpansion(count, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
             if (o.won) return run.solved(set.path(o.parent), o.input, set.size(), set.bytes());
             if (o.full) return memoryFull();
             begin += count;

@@ -18,7 +18,7 @@ namespace psc::search {
 
 const std::string& stateSetKernelSource();  // state_set_kernels.cu, embedded at build time
 
-// The kernels' structures (state_set_kernels.cu), byte for byte: StateSet,
+// state_set_kernels.cu's StateSet, byte for byte.
 struct DeviceStateSet::KernelArgs {
     CuDevicePtr keys, parents, inputs, hashes, table;
     uint32_t tableMask, tableBits, words, capacity;
@@ -28,7 +28,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// and Counters.
+// state_set_kernels.cu's Counters, byte for byte.
 struct Counters {
     uint64_t won;
     uint32_t size;

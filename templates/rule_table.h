@@ -31,6 +31,16 @@ namespace psc_game {
 
 constexpr int kTableRuleFlagReplacements = 1;
 constexpr int kTableRuleFlagEllipses = 2;
+constexpr int kTableRuleRowCount = 5;  // a rule record's fields: its row count, then its rows' offsets
+constexpr int kTableRuleRows = 6;
+
+// The count and the presence bits of the boards a rule's every match needs.
+PSC_DEVICE PSC_INLINE const int* tableRequiredBoards(int rule) {
+    return kRuleData + rule + kTableRuleRows + kRuleData[rule + kTableRuleRowCount];
+}
+
+// Where a row's cells before its first ellipsis end.
+PSC_DEVICE PSC_INLINE int tableRowPrefixEnd(const int* row) { return row[1] < 0 ? row[0] : row[1]; }
 
 PSC_DEVICE PSC_INLINE const Board& tableBoard(const Env& e, int b) { return b >= 0 ? e.obj[b] : e.mov[-b - 1]; }
 
@@ -180,7 +190,7 @@ struct TableMatches {
     int savedAt[kTableMaxRows];        // each row's first saved cell
     TableRowVisit visit[kTableMaxRows];
 
-    PSC_DEVICE PSC_INLINE int row(int r) const { return kRuleData[rule + 6 + r]; }
+    PSC_DEVICE PSC_INLINE int row(int r) const { return kRuleData[rule + kTableRuleRows + r]; }
 
     // Position of cell i of row r at its current start and gaps.
     PSC_DEVICE PSC_INLINE int position(int r, int i) const {
@@ -196,13 +206,13 @@ struct TableMatches {
     // cell whose board leaves no start, before any saved cell is computed.
     PSC_DEVICE PSC_COLD bool prepare(const Env& e, int ruleOffset) {
         rule = ruleOffset;
-        rows = kRuleData[rule + 5];
+        rows = kRuleData[rule + kTableRuleRowCount];
         const int direction = kRuleData[rule];
         d = direction == 0 ? 1 : direction == 1 ? -1 : direction == 2 ? columnOf(e) : -columnOf(e);
         horizontal = direction >= 2;
         for (int r = 0; r < rows; ++r) {
             const int* w = kRuleData + row(r);
-            const int prefixEnd = w[1] < 0 ? w[0] : w[1];
+            const int prefixEnd = tableRowPrefixEnd(w);
             Board b = tableCellBoard(e, w[3]);
             for (int i = 1; i < prefixEnd && b.any(); ++i) b = b & shiftBy(tableCellBoard(e, w[3 + i]), i * d);
             if (!b.any()) return false;
@@ -212,7 +222,7 @@ struct TableMatches {
         for (int r = 0; r < rows; ++r) {
             const int* w = kRuleData + row(r);
             savedAt[r] = savedCount;
-            for (int i = w[1] < 0 ? w[0] : w[1]; i < w[0]; ++i) {
+            for (int i = tableRowPrefixEnd(w); i < w[0]; ++i) {
                 if (w[3 + i] >= 0) saved[savedCount++] = tableCellBoard(e, w[3 + i]);
             }
         }
@@ -344,6 +354,34 @@ struct TableMatches {
     }
 };
 
+// Which boards hold anything (bit b: e.obj[b]; bit kObjects + m: e.mov[m]).
+// A rule needing an empty board matches nowhere and is skipped; the bits are
+// taken again whenever a rule changes the board.
+constexpr int kTablePresenceBits = kObjects + 5 * kLayers;
+struct TablePresence {
+    u64 w[(kTablePresenceBits + 63) / 64];
+
+    PSC_DEVICE PSC_COLD void take(const Env& e) {
+        for (int i = 0; i < (kTablePresenceBits + 63) / 64; ++i) w[i] = 0;
+        for (int b = 0; b < kObjects; ++b) {
+            if (e.obj[b].any()) w[b >> 6] |= u64{1} << (b & 63);
+        }
+        for (int m = 0; m < 5 * kLayers; ++m) {
+            const int b = kObjects + m;
+            if (e.mov[m].any()) w[b >> 6] |= u64{1} << (b & 63);
+        }
+    }
+
+    PSC_DEVICE PSC_INLINE bool allowsRule(int rule) const {
+        const int* q = tableRequiredBoards(rule);
+        const int n = *q++;
+        for (int i = 0; i < n; ++i) {
+            if (!((w[q[i] >> 6] >> (q[i] & 63)) & 1u)) return false;
+        }
+        return true;
+    }
+};
+
 // One rule of an ordinary group (RuleCode's tryApply).
 PSC_DEVICE PSC_COLD bool tableApplyRule(Env& e, Turn& t, int rule) {
     TableMatches m;
@@ -366,9 +404,9 @@ PSC_DEVICE PSC_COLD bool tableApplyRule(Env& e, Turn& t, int rule) {
 }
 
 // The number of a rule's matches (a random group's candidates).
-PSC_DEVICE PSC_COLD long long tableCountMatches(const Env& e, int rule) {
+PSC_DEVICE PSC_COLD long long tableCountMatches(const Env& e, const TablePresence& present, int rule) {
     TableMatches m;
-    if (!m.prepare(e, rule)) return 0;
+    if (!present.allowsRule(rule) || !m.prepare(e, rule)) return 0;
     long long n = 0;
     if (!(kRuleData[rule + 1] & kTableRuleFlagEllipses)) {
         n = 1;
@@ -395,34 +433,6 @@ PSC_DEVICE PSC_COLD bool tableApplyNth(Env& e, Turn& t, int rule, long long n) {
     return changed;
 }
 
-// Which boards hold anything (bit b: e.obj[b]; bit kObjects + m: e.mov[m]).
-// A rule needing an empty board matches nowhere and is skipped; the bits are
-// taken again whenever a rule changes the board.
-constexpr int kTablePresenceBits = kObjects + 5 * kLayers;
-struct TablePresence {
-    u64 w[(kTablePresenceBits + 63) / 64];
-
-    PSC_DEVICE PSC_COLD void take(const Env& e) {
-        for (int i = 0; i < (kTablePresenceBits + 63) / 64; ++i) w[i] = 0;
-        for (int b = 0; b < kObjects; ++b) {
-            if (e.obj[b].any()) w[b >> 6] |= u64{1} << (b & 63);
-        }
-        for (int m = 0; m < 5 * kLayers; ++m) {
-            const int b = kObjects + m;
-            if (e.mov[m].any()) w[b >> 6] |= u64{1} << (b & 63);
-        }
-    }
-
-    PSC_DEVICE PSC_INLINE bool allowsRule(int rule) const {
-        const int* q = kRuleData + rule + 6 + kRuleData[rule + 5];
-        const int n = *q++;
-        for (int i = 0; i < n; ++i) {
-            if (!((w[q[i] >> 6] >> (q[i] & 63)) & 1u)) return false;
-        }
-        return true;
-    }
-};
-
 // A group of rules kRuleIndex[first .. first + count): passes over its rules
 // until one changes nothing, at most 200; a random group applies one match
 // drawn from all its rules' matches.
@@ -443,13 +453,11 @@ PSC_DEVICE PSC_COLD bool tableApplyGroup(Env& e, Turn& t, TablePresence& present
     }
 #if PSC_USES_RANDOM
     long long total = 0;
-    for (int i = first; i < first + count; ++i) {
-        if (present.allowsRule(kRuleIndex[i])) total += tableCountMatches(e, kRuleIndex[i]);
-    }
+    for (int i = first; i < first + count; ++i) total += tableCountMatches(e, present, kRuleIndex[i]);
     if (total == 0) return false;
     long long pick = static_cast<long long>(e.rng.uniform() * static_cast<double>(total));
     for (int i = first; i < first + count; ++i) {
-        const long long matches = present.allowsRule(kRuleIndex[i]) ? tableCountMatches(e, kRuleIndex[i]) : 0;
+        const long long matches = tableCountMatches(e, present, kRuleIndex[i]);
         if (pick < matches) {
             const bool changed = tableApplyNth(e, t, kRuleIndex[i], pick);
             if (changed) present.take(e);
