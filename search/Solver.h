@@ -9,8 +9,8 @@
 //   beam      breadth-first keeping the best `beamWidth` new states a layer
 //             (by h; by default widening while beams empty): deep solutions
 //             in bounded memory, incomplete;
-//   portfolio breadth-first for a sixth of the time, greedy until half of
-//             it, beam until three quarters, then weighted A*.
+//   portfolio breadth-first for 1/25 of the time, greedy until three
+//             quarters of it, beam until seven eighths, then weighted A*.
 // docs/search.md gives the measurements behind these choices.
 #pragma once
 
