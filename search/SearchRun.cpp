@@ -76,6 +76,10 @@ size_t SearchRun::batchWithinTime(size_t wanted) const {
     if (secondsPerState_ > 0) {
         const double states = std::max(0.0, timeLimit_ - elapsed()) / 4 / secondsPerState_;
         most = states >= static_cast<double>(wanted) ? wanted : static_cast<size_t>(states);
+        // A rate measured on a few states says little about the next ones (a
+        // start whose inputs settle, children whose inputs each run a long
+        // `again` chain): a call takes at most twice the last one's states.
+        most = std::min(most, 2 * lastCount_);
     }
     return std::max<size_t>(1, std::min(wanted, most));
 }
@@ -84,6 +88,7 @@ void SearchRun::countExpansion(size_t count, double seconds) {
     result.expanded += count;
     result.generated += count * space.inputs().size();
     secondsPerState_ = seconds / static_cast<double>(std::max<size_t>(count, 1));
+    lastCount_ = count;
 }
 
 void expandStored(SearchRun& run, const uint32_t* states, size_t count, ExpandBuffers& b, bool withEstimates) {

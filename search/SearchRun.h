@@ -36,10 +36,10 @@ public:
     StateStore::Insert add(const uint64_t* key, uint64_t hash, uint32_t parent, uint8_t input, uint32_t depth, uint32_t* index);
     // How many of `wanted` states the next expand call may take (at least one):
     // as many as fit in a quarter of the time left at the last call's rate,
-    // and a few at first.  One call of a large batch of a slow game (a state
-    // whose inputs each run a long `again` chain) would otherwise overrun
-    // the time limit many times over, and a portfolio stage's overrun is
-    // taken from the stages after it.
+    // at most twice the last call's, and a few at first.  One call of a large
+    // batch of a slow game (a state whose inputs each run a long `again`
+    // chain) would otherwise overrun the time limit many times over, and a
+    // portfolio stage's overrun is taken from the stages after it.
     size_t batchWithinTime(size_t wanted) const;
     // Counts an expand call of `count` states that took `seconds`.
     void countExpansion(size_t count, double seconds);
@@ -54,6 +54,7 @@ private:
     std::chrono::steady_clock::time_point start_;
     double lastProgress_ = 0;
     double secondsPerState_ = 0;  // of the last expand call; 0 before the first
+    size_t lastCount_ = 0;        // the last expand call's states
 };
 
 // One expand call's keys in and children out, grown to the largest batch
