@@ -4,8 +4,9 @@
 //
 // The expansion is the reference's worklist, duplicates included (they are
 // removed later, and which copy survives decides the rule order), so it is
-// reproduced step for step rather than predicted.  A right-hand ambiguous
-// movement that cannot be inferred makes the game invalid.
+// reproduced step for step rather than predicted (RuleSplitting.h).  A
+// right-hand ambiguous movement that cannot be inferred makes the game
+// invalid; so does splitting past kMaxExpandedRules rules.
 // (Reference: compiler.js concretizeMovingRule.)
 #pragma once
 

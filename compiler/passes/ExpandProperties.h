@@ -5,7 +5,8 @@
 // span several layers or when the right-hand side uses it without the
 // left-hand cell doing so; otherwise it stays and matches as "any of".  A
 // property split in a single left-hand cell fixes its right-hand uses too;
-// one left ambiguous on the right drops the rule with an error.
+// one left ambiguous on the right drops the rule with an error.  Splitting
+// past kMaxExpandedRules rules (RuleSplitting.h) makes the game invalid.
 // (Reference: compiler.js concretizePropertyRule.)
 #pragma once
 
