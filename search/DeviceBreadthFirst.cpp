@@ -5,8 +5,6 @@
 // search (the stores hold the same states in the same order); the host only
 // reads each batch's outcome.  Batches are sized to the time left, as the
 // host searches' are.
-#include <chrono>
-
 #include "DeviceStateSet.h"
 #include "SearchRun.h"
 
@@ -28,9 +26,9 @@ SolveResult deviceBreadthFirst(SearchRun& run) {
             if (run.stopped(set.size())) return run.finish(Status::Limit, set.size(), set.bytes());
             const size_t count = set.room(run.batchWithinTime(std::min(space.maxBatch(), layerEnd - begin)));
             if (count == 0) return memoryFull();
-            const auto start = std::chrono::steady_clock::now();
+            const double began = run.elapsed();
             const DeviceStateSet::Outcome o = set.expand(static_cast<uint32_t>(begin), count);
-            run.countExpansion(count, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+            run.countExpansion(count, began);
             if (o.won) return run.solved(set.path(o.parent), o.input, set.size(), set.bytes());
             if (o.full) return memoryFull();
             begin += count;

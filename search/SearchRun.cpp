@@ -84,10 +84,10 @@ size_t SearchRun::batchWithinTime(size_t wanted) const {
     return std::max<size_t>(1, std::min(wanted, most));
 }
 
-void SearchRun::countExpansion(size_t count, double seconds) {
+void SearchRun::countExpansion(size_t count, double began) {
     result.expanded += count;
     result.generated += count * space.inputs().size();
-    secondsPerState_ = seconds / static_cast<double>(std::max<size_t>(count, 1));
+    secondsPerState_ = (elapsed() - began) / static_cast<double>(std::max<size_t>(count, 1));
     lastCount_ = count;
 }
 
@@ -99,10 +99,10 @@ void expandStored(SearchRun& run, const uint32_t* states, size_t count, ExpandBu
         const uint64_t* key = run.store.key(states[i]);
         std::copy(key, key + words, b.keys.begin() + static_cast<std::ptrdiff_t>(i * words));
     }
-    const auto start = std::chrono::steady_clock::now();
+    const double began = run.elapsed();
     run.space.expand(b.keys.data(), count, b.children.data(), b.flags.data(), b.hashes.data(),
                      withEstimates ? b.estimates.data() : nullptr);
-    run.countExpansion(count, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    run.countExpansion(count, began);
 }
 
 void ExpandBuffers::fit(size_t count, size_t words, size_t inputs, bool withEstimates) {

@@ -41,8 +41,8 @@ public:
     // chain) would otherwise overrun the time limit many times over, and a
     // portfolio stage's overrun is taken from the stages after it.
     size_t batchWithinTime(size_t wanted) const;
-    // Counts an expand call of `count` states that took `seconds`.
-    void countExpansion(size_t count, double seconds);
+    // Counts an expand call of `count` states begun when elapsed() was `began`.
+    void countExpansion(size_t count, double began);
     void reportProgress(int depth) { reportProgress(depth, store.size(), store.bytes()); }
     void reportProgress(int depth, uint64_t unique, size_t bytes);
 

@@ -91,8 +91,7 @@ def main():
                 failures += 1
                 continue
             err = r.stderr.decode("utf-8", "replace")
-            located = LOCATED.search(err) is not None and all(m in err for m in message)
-            ok = r.returncode == 1 and located
+            ok = r.returncode == 1 and LOCATED.search(err) is not None and all(m in err for m in message)
             shown = next((line for line in err.splitlines() if message and message[0] in line), err.splitlines()[0] if err else "(no message)")
             print(f"{'ok  ' if ok else 'FAIL'} {name}: exit {r.returncode}; {shown}"[:200])
             failures += 0 if ok else 1
