@@ -21,7 +21,7 @@ struct GameBuildOptions {
     std::vector<int> levels;      // playable levels to build; empty: all
     std::string target = "cpu";   // cpu | cuda | all (cuda plugins also run on the CPU)
     CudaCompileOptions cuda;
-    std::string gpuState = "auto";  // auto | registers | memory | shared (codegen::SourceOptions)
+    std::string gpuState = "auto";  // auto | registers | memory | groups | shared (codegen::SourceOptions)
     int cudaUnits = 0;              // CUDA compile units; 0: chosen by codegen (codegen::SourceOptions)
     bool searchKernels = false;     // psc_expand on the GPU (codegen::SourceOptions)
     std::string ruleForm = "auto";  // auto | code | table (codegen::SourceOptions)

@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
     const auto fastCompileLevels = CLI::IsMember({"0", "min", "mid", "max"});
     const char* fastCompileHelp = "CUDA -Ofast-compile level: 0 (full optimisation), min, mid, max";
     app.add_option("--fast-compile", fastCompile, fastCompileHelp)->check(fastCompileLevels);
-    const auto gpuStates = CLI::IsMember({"auto", "registers", "memory", "shared"});
+    const auto gpuStates = CLI::IsMember({"auto", "registers", "memory", "groups", "shared"});
     const char* gpuStateHelp = "where the GPU keeps each environment's state";
     app.add_option("--gpu-state", gpuState, gpuStateHelp)->check(gpuStates);
     int cudaUnits = 0;

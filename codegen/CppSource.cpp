@@ -32,12 +32,26 @@ constexpr int kMaxUnrolledBoardWords = 8;
 constexpr size_t kRuleBytesPerUnit = 16000;
 constexpr int kMaxCompileUnits = 8;
 
+// The groups layout (templates/core.h) compiles each group with its rules
+// inlined, on a copy of the state in registers, which costs NVRTC about
+// twice the memory layout's time per byte of rule code, and more with the
+// board's words.  A group's weight is its code bytes times the words; one
+// compile unit per kGroupUnitWeight (about 1 s of NVRTC on the GPU machine's
+// host: docs/performance.md), and `auto` picks the layout while the units it
+// needs stay within kMaxCompileUnits.  A group over kGroupCopyBudget passes
+// over parts of its rules, each within the budget, each on a copy; a random
+// group stays apart instead, compiled as the memory layout.
+constexpr size_t kGroupCopyBudget = 16000;
+constexpr size_t kGroupUnitWeight = 16000;
+
 // How the GPU code is built (gpuCode, below): decided once per source, as it
 // generates the rules to size them.
 struct GpuCode {
     bool inRegisters = false;  // the state layout (templates/core.h)
     bool inShared = false;     // the memory layout, stepped in shared memory (templates/cuda_kernels.h)
+    bool inGroups = false;     // the memory layout, each rule group on a copy in registers (templates/core.h)
     int units = 1;             // CUDA compile units (templates/core.h)
+    RuleUnits rules;           // where the rules go (with the groups layout, which groups stay apart)
 };
 
 std::string cString(const std::string& utf8) { return json::quote(utf8); }
@@ -47,14 +61,7 @@ int positionOf(int x, int y, int height) { return x * (height + 1) + y; }
 bool usesRandom(const Game& g) {
     for (const auto* groups : {&g.rules, &g.lateRules}) {
         for (const auto& group : *groups) {
-            if (group.random) return true;
-            for (const auto& rule : group.rules) {
-                for (const auto& row : rule.rows) {
-                    for (const auto& c : row) {
-                        if (c.replacement && (c.replacement->randomEntity.any() || c.replacement->randomDirMask.any())) return true;
-                    }
-                }
-            }
+            if (groupUsesRandom(group)) return true;
         }
     }
     return false;
@@ -146,6 +153,12 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
                          gpu.inRegisters ? 1 : 0));
     out.line(fmt::format("#define PSC_STATE_IN_SHARED {}  // the stepping kernel's copy in shared memory",
                          gpu.inShared ? 1 : 0));
+    out.line(fmt::format("#define PSC_STATE_IN_GROUPS {}  // each rule group on a copy in registers",
+                         gpu.inGroups ? 1 : 0));
+    if (o.target != "cpu") {
+        out.line(fmt::format("#define PSC_GROUP_UNITS {}  // units 1..this compile the groups on a copy",
+                             gpu.rules.groupUnits));
+    }
     out.line(fmt::format("#define PSC_UNROLL_BOARD_WORDS {}  // the GPU unrolls loops over objects, layers and words",
                          gpu.inRegisters || boardWords(g, o) <= kMaxUnrolledBoardWords ? 1 : 0));
     if (o.target != "cpu") {
@@ -556,6 +569,7 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
     if (options.gpuState != "auto") {
         gpu.inRegisters = options.gpuState == "registers";
         gpu.inShared = options.gpuState == "shared";
+        gpu.inGroups = options.gpuState == "groups";
     } else {
         // Registers make ptxas unroll every word of every board access into
         // the rules, which it compiles as one kernel, so compile time grows
@@ -570,12 +584,45 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
     }
     const int groups = static_cast<int>(game.rules.size() + game.lateRules.size());
     if (gpu.inRegisters || groups == 0) return gpu;
-    if (options.cudaUnits > 0) {
-        gpu.units = std::min(options.cudaUnits, groups + 1);
-    } else {
-        const int ruleUnits = static_cast<int>((ruleBytes + kRuleBytesPerUnit - 1) / kRuleBytesPerUnit);
-        gpu.units = 1 + std::min({std::max(ruleUnits, 1), groups, kMaxCompileUnits - 1});
+
+    // The groups layout: units 1..groupUnits for the groups on a copy, then
+    // units for those apart, by code size as the memory layout's.  Only a
+    // random group cannot be split into parts, and stays apart when large.
+    size_t copiedWeight = 0;
+    size_t apartBytes = 0;
+    for (size_t i = 0; i < form.groupCodeBytes.size(); ++i) {
+        const size_t bytes = form.groupCodeBytes[i];
+        const bool random = i < game.rules.size() ? game.rules[i].random : game.lateRules[i - game.rules.size()].random;
+        const bool apart = random && bytes * static_cast<size_t>(words) > kGroupCopyBudget;
+        gpu.rules.apart.push_back(apart);
+        (apart ? apartBytes : copiedWeight) += apart ? bytes : bytes * static_cast<size_t>(words);
     }
+    gpu.rules.partBytes = kGroupCopyBudget / static_cast<size_t>(words);
+    gpu.rules.copyWeight = static_cast<size_t>(words);
+    const int copyUnits = static_cast<int>((copiedWeight + kGroupUnitWeight - 1) / kGroupUnitWeight);
+    const int apartUnits = static_cast<int>((apartBytes + kRuleBytesPerUnit - 1) / kRuleBytesPerUnit);
+    if (options.gpuState == "auto") {
+        // A random group's copy would hold the random stream, which rules
+        // index at run time: it would stay in memory, copied in and out whole.
+        gpu.inGroups = !usesRandom(game) && words <= kMaxUnrolledBoardWords && copyUnits >= 1 &&
+                       copyUnits + apartUnits <= kMaxCompileUnits - 1;
+    }
+    gpu.rules.groups = gpu.inGroups;
+    if (gpu.inGroups) {
+        // Within kMaxCompileUnits, at least one unit of each kind needed.
+        gpu.rules.groupUnits = std::clamp(copyUnits, copyUnits > 0 ? 1 : 0, kMaxCompileUnits - 1 - std::min(apartUnits, 1));
+        const int rest = std::clamp(apartUnits, std::min(apartUnits, 1), kMaxCompileUnits - 1 - gpu.rules.groupUnits);
+        gpu.units = 1 + gpu.rules.groupUnits + rest;
+    } else {
+        gpu.rules.apart.clear();
+        if (options.cudaUnits > 0) {
+            gpu.units = std::min(options.cudaUnits, groups + 1);
+        } else {
+            const int ruleUnits = static_cast<int>((ruleBytes + kRuleBytesPerUnit - 1) / kRuleBytesPerUnit);
+            gpu.units = 1 + std::min({std::max(ruleUnits, 1), groups, kMaxCompileUnits - 1});
+        }
+    }
+    gpu.rules.units = gpu.units;
     return gpu;
 }
 
@@ -590,7 +637,7 @@ RuleFormChoice ruleForm(const ir::Game& game, const SourceOptions& options) {
         return choice;
     }
     CodeWriter rules;
-    emitRules(rules, game);
+    emitRules(rules, game, {}, &choice.groupCodeBytes);
     choice.codeBytes = rules.text().size();
     const double megabytes = static_cast<double>(choice.codeBytes) / 1e6;
     if (options.ruleForm == "code") {
@@ -632,7 +679,7 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
         out.open("namespace psc_game");
         emitRuleTableGroups(out);
     } else {
-        emitRules(out, game, options.target == "cpu" ? 1 : gpu.units);
+        emitRules(out, game, options.target == "cpu" ? RuleUnits{} : gpu.rules);
     }
     out.close("  // namespace psc_game");
     out.line();

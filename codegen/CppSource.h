@@ -19,6 +19,7 @@ namespace psc::codegen {
 struct RuleFormChoice {
     bool table = false;
     size_t codeBytes = 0;  // the rules as straight-line code (0 when not measured)
+    std::vector<size_t> groupCodeBytes;  // of that, each group's with its rules (early, then late)
     std::string reason;
 };
 
@@ -31,7 +32,8 @@ struct SourceOptions {
     // every step cheaper.
     std::vector<int> levels;
     // Where the GPU keeps each environment's state: "registers", "memory"
-    // (local memory), "shared" (the memory layout, stepped in shared memory),
+    // (local memory), "groups" (local memory, each rule group run on a copy
+    // in registers), "shared" (the memory layout, stepped in shared memory),
     // or "auto" (chosen from the game's rule code and board size; see
     // templates/core.h).
     std::string gpuState = "auto";

@@ -321,11 +321,11 @@ void emitRowSetup(CodeWriter& out, const Rule& rule, const std::string& noMatch)
 }
 
 void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames& names, bool inRandomGroup,
-              const std::vector<std::string>& messages) {
+              const std::vector<std::string>& messages, const std::string& kind) {
     out.line("// line " + std::to_string(rule.line) + ": " + ir::ruleText(g, rule));
     const uint32_t commands = commandBits(rule);
     if (!inRandomGroup) {
-        out.open("PSC_DEVICE PSC_RULE bool " + names.apply + "(Env& e, Turn& t)");
+        out.open("PSC_DEVICE " + kind + " bool " + names.apply + "(Env& e, Turn& t)");
         out.line("(void)t;");
         emitRowSetup(out, rule, "false");
         out.line("bool changed = false;");
@@ -355,7 +355,7 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
     }
 
     // In a random group: count the candidates, and apply the n-th.
-    out.open("PSC_DEVICE PSC_RULE long long " + names.count + "(const Env& e)");
+    out.open("PSC_DEVICE " + kind + " long long " + names.count + "(const Env& e)");
     emitRowSetup(out, rule, "0");
     if (!hasEllipsis(rule)) {
         std::vector<std::string> counts;
@@ -369,7 +369,7 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
     out.close();
     out.line();
 
-    out.open("PSC_DEVICE PSC_RULE bool " + names.nth + "(Env& e, Turn& t, long long n)");
+    out.open("PSC_DEVICE " + kind + " bool " + names.nth + "(Env& e, Turn& t, long long n)");
     out.line("(void)t;");
     emitRowSetup(out, rule, "false");
     out.line("bool changed = false;");
@@ -394,12 +394,14 @@ struct Piece {
 
 // The group's function: passes over its rules, or (random) one match drawn from all of theirs.
 void emitGroupFunction(CodeWriter& out, const ir::RuleGroup& group, size_t index, bool late,
-                       const std::vector<RuleNames>& names) {
+                       const std::vector<RuleNames>& names, bool inPlace) {
     const std::string name = groupName(group, index, late);
+    const std::string state = inPlace ? "PSC_GROUP_IN_PLACE(env, turn);" : "PSC_GROUP_WORKING_COPY(env, turn);";
     if (!group.random) {
         out.line(fmt::format("// group {} (line {}): passes over its rules until one changes nothing, at most 200",
                              index, group.groupNumber));
-        out.open("PSC_DEVICE PSC_RULE bool " + name + "(Env& e, Turn& t)");
+        out.open("PSC_DEVICE PSC_GROUP bool " + name + "(Env& env, Turn& turn)");
+        out.line(state);
         out.line("bool changed = false;");
         out.open("for (int pass = 0; pass < 200; ++pass)");
         out.line("bool any = false;");
@@ -414,7 +416,8 @@ void emitGroupFunction(CodeWriter& out, const ir::RuleGroup& group, size_t index
     }
     out.line(fmt::format("// group {} (line {}): random, applies one match drawn from all its rules' matches", index,
                          group.groupNumber));
-    out.open("PSC_DEVICE PSC_RULE bool " + name + "(Env& e, Turn& t)");
+    out.open("PSC_DEVICE PSC_GROUP bool " + name + "(Env& env, Turn& turn)");
+    out.line(state);
     out.line(fmt::format("long long counts[{}];", names.size()));
     out.line("long long total = 0;");
     for (size_t i = 0; i < names.size(); ++i) {
@@ -432,24 +435,106 @@ void emitGroupFunction(CodeWriter& out, const ir::RuleGroup& group, size_t index
     out.line();
 }
 
-void emitGroup(std::vector<Piece>& pieces, int indent, const Game& g, const ir::RuleGroup& group, size_t index,
-               bool late, std::set<std::string>& used, const std::vector<std::string>& messages) {
+// A group part's function (the groups layout): some of a large group's
+// rules, in order, on a copy of the state; the group passes over its parts.
+void emitGroupPart(CodeWriter& out, const std::string& name, const std::vector<RuleNames>& names, const std::string& state) {
+    out.open("PSC_DEVICE PSC_GROUP bool " + name + "(Env& env, Turn& turn)");
+    out.line(state);
+    out.line("bool any = false;");
+    for (const auto& n : names) out.line("any |= " + n.apply + "(e, t);");
+    out.line("return any;");
+    out.close();
+    out.line();
+}
+
+std::string groupDeclaration(const std::string& name) {
+    return "PSC_DEVICE PSC_GROUP bool " + name + "(Env& env, Turn& turn);";
+}
+
+// How emitGroup lays a group out.
+struct GroupLayout {
+    bool together = false;  // the groups layout: the group and its rules as one piece, on a copy
+    bool apart = false;     // rules out of line, the group in place (the memory layout's way)
+    size_t partBytes = 0;   // together: a larger group is split into parts of at most this much code
+};
+
+// A group's pieces: its rules and its function; `inlined` says which pieces
+// hold a group with its rules inlined (the groups layout's units 1..groupUnits).
+void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int indent, const Game& g,
+               const ir::RuleGroup& group, size_t index, bool late, const GroupLayout& layout,
+               std::set<std::string>& used, const std::vector<std::string>& messages) {
+    const std::string kind = layout.apart ? "PSC_RULE_APART" : "PSC_RULE";
+    const std::string name = groupName(group, index, late);
     std::vector<RuleNames> names;
+    std::vector<Piece> rules;
+    size_t bytes = 0;
     for (const auto& rule : group.rules) {
         std::string base = uniqueIdentifier(ruleIdentifier(g, rule, late), used);
         names.push_back({base, base + "_count", base + "_apply_nth"});
         CodeWriter code(indent);
-        emitRule(code, g, rule, names.back(), group.random, messages);
+        emitRule(code, g, rule, names.back(), group.random, messages, kind);
         const RuleNames& n = names.back();
-        pieces.push_back({code.text(), group.random ? std::vector<std::string>{
-                                                          "PSC_DEVICE PSC_RULE long long " + n.count + "(const Env& e);",
-                                                          "PSC_DEVICE PSC_RULE bool " + n.nth + "(Env& e, Turn& t, long long n);"}
-                                                    : std::vector<std::string>{"PSC_DEVICE PSC_RULE bool " + n.apply +
-                                                                               "(Env& e, Turn& t);"}});
+        rules.push_back({code.text(), group.random ? std::vector<std::string>{
+                                                         "PSC_DEVICE " + kind + " long long " + n.count + "(const Env& e);",
+                                                         "PSC_DEVICE " + kind + " bool " + n.nth + "(Env& e, Turn& t, long long n);"}
+                                                   : std::vector<std::string>{"PSC_DEVICE " + kind + " bool " + n.apply +
+                                                                              "(Env& e, Turn& t);"}});
+        bytes += rules.back().text.size();
+    }
+    auto add = [&](Piece piece, bool inline_) {
+        pieces.push_back(std::move(piece));
+        inlined.push_back(inline_);
+    };
+    auto join = [](std::vector<Piece>::iterator from, std::vector<Piece>::iterator to) {
+        Piece joined;
+        for (auto it = from; it != to; ++it) {
+            joined.text += it->text;
+            joined.declarations.insert(joined.declarations.end(), it->declarations.begin(), it->declarations.end());
+        }
+        return joined;
+    };
+    // A copy of the random stream, which rules index at run time, would
+    // live in local memory: a group that draws from it works in place.
+    const bool inPlace = layout.apart || groupUsesRandom(group);
+    const std::string state = inPlace ? "PSC_GROUP_IN_PLACE(env, turn);" : "PSC_GROUP_WORKING_COPY(env, turn);";
+    const bool split = layout.together && !group.random && layout.partBytes > 0 && bytes > layout.partBytes;
+    if (split) {
+        // Consecutive rules, each part within partBytes (a larger rule alone).
+        std::vector<RuleNames> parts;
+        size_t first = 0;
+        while (first < rules.size()) {
+            size_t last = first + 1;
+            size_t size = rules[first].text.size();
+            while (last < rules.size() && size + rules[last].text.size() <= layout.partBytes) size += rules[last++].text.size();
+            const std::string part = fmt::format("{}_part{}", name, parts.size());
+            Piece piece = join(rules.begin() + static_cast<long>(first), rules.begin() + static_cast<long>(last));
+            CodeWriter code(indent);
+            emitGroupPart(code, part,
+                          std::vector<RuleNames>(names.begin() + static_cast<long>(first), names.begin() + static_cast<long>(last)),
+                          state);
+            piece.text += code.text();
+            piece.declarations.push_back(groupDeclaration(part));
+            add(std::move(piece), true);
+            parts.push_back({part, "", ""});
+            first = last;
+        }
+        CodeWriter code(indent);
+        emitGroupFunction(code, group, index, late, parts, true);
+        add({code.text(), {groupDeclaration(name)}}, false);
+        return;
     }
     CodeWriter code(indent);
-    emitGroupFunction(code, group, index, late, names);
-    pieces.push_back({code.text(), {"PSC_DEVICE PSC_RULE bool " + groupName(group, index, late) + "(Env& e, Turn& t);"}});
+    emitGroupFunction(code, group, index, late, names, inPlace);
+    Piece function{code.text(), {groupDeclaration(name)}};
+    if (layout.together && !layout.apart) {
+        Piece piece = join(rules.begin(), rules.end());
+        piece.text += function.text;
+        piece.declarations.push_back(function.declarations.front());
+        add(std::move(piece), true);
+        return;
+    }
+    for (auto& rule : rules) add(std::move(rule), false);
+    add(std::move(function), false);
 }
 
 void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGroup>& groups,
@@ -499,28 +584,50 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
 
 }  // namespace
 
-void emitRules(CodeWriter& out, const Game& game, int units) {
+void emitRules(CodeWriter& out, const Game& game, const RuleUnits& layout, std::vector<size_t>* groupBytes) {
     std::vector<Piece> pieces;
+    std::vector<bool> inlined;  // of pieces: a group with its rules inlined (the groups layout)
     std::set<std::string> used;
     const std::vector<std::string> messages = ruleMessages(game);
-    for (size_t i = 0; i < game.rules.size(); ++i) emitGroup(pieces, out.indent(), game, game.rules[i], i, false, used, messages);
-    for (size_t i = 0; i < game.lateRules.size(); ++i) emitGroup(pieces, out.indent(), game, game.lateRules[i], i, true, used, messages);
+    auto emitGroupPieces = [&](const ir::RuleGroup& group, size_t index, bool late) {
+        const size_t number = index + (late ? game.rules.size() : 0);
+        GroupLayout groupLayout;
+        groupLayout.together = layout.groups;
+        groupLayout.apart = layout.groups && number < layout.apart.size() && layout.apart[number];
+        groupLayout.partBytes = layout.partBytes;
+        const size_t before = pieces.size();
+        emitGroup(pieces, inlined, out.indent(), game, group, index, late, groupLayout, used, messages);
+        if (groupBytes) {
+            size_t bytes = 0;
+            for (size_t i = before; i < pieces.size(); ++i) bytes += pieces[i].text.size();
+            groupBytes->push_back(bytes);
+        }
+    };
+    for (size_t i = 0; i < game.rules.size(); ++i) emitGroupPieces(game.rules[i], i, false);
+    for (size_t i = 0; i < game.lateRules.size(); ++i) emitGroupPieces(game.lateRules[i], i, true);
+    // Inlined groups cost NVRTC more per byte (RuleUnits::copyWeight).
+    std::vector<size_t> weights;
+    for (size_t i = 0; i < pieces.size(); ++i) weights.push_back(pieces[i].text.size() * (inlined[i] ? layout.copyWeight : 1));
+    const int units = layout.units;
     if (units <= 1) {
         for (const auto& piece : pieces) out.raw(piece.text);
     } else {
         // Pieces go to units 1.. (unit 0 has the turn and the kernels),
-        // largest first, each to the unit with the least code so far.
+        // heaviest first, each to the unit of its kind with the least weight
+        // so far: inlined groups to units 1..groupUnits, the others after.
         std::vector<size_t> order(pieces.size());
         for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-        std::stable_sort(order.begin(), order.end(),
-                         [&](size_t a, size_t b) { return pieces[a].text.size() > pieces[b].text.size(); });
+        std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return weights[a] > weights[b]; });
         std::vector<size_t> load(static_cast<size_t>(units), 0);
         std::vector<size_t> unitOf(pieces.size(), 0);
+        const size_t split = layout.groups ? static_cast<size_t>(std::clamp(layout.groupUnits, 0, units - 1)) : 0;
         for (size_t i : order) {
-            size_t least = 1;
-            for (size_t k = 2; k < load.size(); ++k) least = load[k] < load[least] ? k : least;
+            const size_t first = inlined[i] || split + 1 >= load.size() ? 1 : split + 1;
+            const size_t end = inlined[i] ? std::max<size_t>(split + 1, 2) : load.size();
+            size_t least = first;
+            for (size_t k = first + 1; k < end; ++k) least = load[k] < load[least] ? k : least;
             unitOf[i] = least;
-            load[least] += pieces[i].text.size();
+            load[least] += weights[i];
         }
         out.line("// Each rule and group is defined in one compile unit (templates/core.h), and declared here for all.");
         for (const auto& piece : pieces) {
@@ -538,6 +645,18 @@ void emitRules(CodeWriter& out, const Game& game, int units) {
     }
     emitApplyRules(out, game, game.rules, game.loopPoints, false);
     emitApplyRules(out, game, game.lateRules, game.lateLoopPoints, true);
+}
+
+bool groupUsesRandom(const ir::RuleGroup& group) {
+    if (group.random) return true;
+    for (const auto& rule : group.rules) {
+        for (const auto& row : rule.rows) {
+            for (const auto& c : row) {
+                if (c.replacement && (c.replacement->randomEntity.any() || c.replacement->randomDirMask.any())) return true;
+            }
+        }
+    }
+    return false;
 }
 
 std::vector<std::string> ruleMessages(const Game& game) {

@@ -17,11 +17,35 @@
 
 namespace psc::codegen {
 
+// Where the CUDA code's rules go (CppSource decides; templates/core.h).
+struct RuleUnits {
+    // Compile units: with more than one, each rule and group function is
+    // declared for all units and defined in one of units 1..units-1, spread
+    // by code size.
+    int units = 1;
+    // The groups layout: a group goes to one of units 1..groupUnits with its
+    // rules, which are inlined into it, and works on a copy of the state.
+    // A group of more than partBytes of code passes over parts of its rules
+    // instead, each a function on a copy.  A group `apart` (by group, early
+    // then late) goes with its rules to the units after groupUnits, compiled
+    // as the memory layout.  A byte of an inlined group weighs copyWeight when
+    // pieces are spread over units.
+    bool groups = false;
+    int groupUnits = 0;
+    size_t partBytes = 0;
+    size_t copyWeight = 1;
+    std::vector<bool> apart;
+};
+
 // Emits rule_* and group_* functions and applyEarlyRules/applyLateRules.
-// With units > 1 (CUDA compile units, templates/core.h) each rule and group
-// function is declared for all units and defined in one of units 1..units-1,
-// balanced by code size.
-void emitRules(CodeWriter& out, const ir::Game& game, int units = 1);
+// groupBytes, when given, receives each group's code size with its rules
+// (early then late).
+void emitRules(CodeWriter& out, const ir::Game& game, const RuleUnits& units = {},
+               std::vector<size_t>* groupBytes = nullptr);
+
+// Whether the group draws from the random stream (a random group, or a
+// rule that places a random object or direction).
+bool groupUsesRandom(const ir::RuleGroup& group);
 
 // The distinct texts of the rules' `message` commands, early rules then late
 // ones in source order: psc_game_info.rule_messages, which step results index.

@@ -13,12 +13,18 @@
 // PSC_INLINE marks small helpers and the hot path; PSC_COLD marks the rare
 // events (level loads, restarts, undo), compiled once, out of line.
 //
-// On the GPU, code generation picks one of two state layouts per game
-// (PSC_STATE_IN_REGISTERS, set above; --gpu-state shared is the memory layout
-// with the stepping kernel's copy in shared memory, PSC_STATE_IN_SHARED):
-//  - registers (small games): the generated rules (PSC_RULE) and layer
-//    helpers (PSC_LAYER) are inlined into one body per kernel, so that the
-//    environment's boards are registers;
+// On the GPU, code generation picks one of three state layouts per game
+// (PSC_STATE_IN_REGISTERS and PSC_STATE_IN_GROUPS, set above; --gpu-state
+// shared is the memory layout with the stepping kernel's copy in shared
+// memory, PSC_STATE_IN_SHARED):
+//  - registers (small games): the generated rules (PSC_RULE), groups
+//    (PSC_GROUP) and layer helpers (PSC_LAYER) are inlined into one body per
+//    kernel, so that the environment's boards are registers;
+//  - groups: the environment lives in local memory, and each rule group is
+//    compiled once, out of line, with its rules and layer helpers inlined into
+//    it: it works on a copy of the environment that ptxas keeps in registers,
+//    and writes back only what changed (PSC_GROUP_WORKING_COPY).  Compile time
+//    grows with the largest group, not with the game;
 //  - memory (large games): rules, layer helpers and the turn (PSC_TURN) are
 //    compiled once each, out of line, over an environment in local memory,
 //    which keeps code size and compile time linear in the game.
@@ -47,14 +53,31 @@
 #define PSC_DEVICE __device__
 #define PSC_INLINE __forceinline__
 #define PSC_COLD inline __noinline__
+// PSC_RULE_APART: a rule of a group the groups layout keeps out of line (too
+// large to compile inlined in time).
 #if PSC_STATE_IN_REGISTERS
 #define PSC_RULE __forceinline__
+#define PSC_RULE_APART __forceinline__
+#define PSC_GROUP __forceinline__
 #define PSC_LAYER __forceinline__
 #define PSC_TURN __forceinline__
+#elif PSC_STATE_IN_GROUPS && defined(PSC_UNIT) && PSC_UNIT > 0 && PSC_UNIT <= PSC_GROUP_UNITS
+// A unit of the groups layout's groups on a copy.
+#define PSC_RULE __forceinline__
+#define PSC_RULE_APART __noinline__
+#define PSC_GROUP __noinline__
+#define PSC_LAYER __forceinline__
+#define PSC_TURN inline __noinline__
+#define PSC_GROUP_COPIES_STATE 1
 #else
 #define PSC_RULE __noinline__
+#define PSC_RULE_APART __noinline__
+#define PSC_GROUP __noinline__
 #define PSC_LAYER inline __noinline__
 #define PSC_TURN inline __noinline__
+#endif
+#if !defined(PSC_GROUP_COPIES_STATE)
+#define PSC_GROUP_COPIES_STATE 0
 #endif
 #define PSC_INPUT PSC_INLINE
 #define PSC_TABLE __device__ const
@@ -67,11 +90,11 @@
 #else
 #define PSC_UNROLL _Pragma("unroll 1")
 #endif
-// Loops over all the state's objects or layers are unrolled only for the
-// registers layout (a board picked by a run-time index would leave the
+// Loops over all the state's objects or layers are unrolled only where the
+// state is in registers (a board picked by a run-time index would leave the
 // registers); over local memory they stay loops, which keeps the turn's code,
 // and its compile time, small.
-#if PSC_STATE_IN_REGISTERS
+#if PSC_STATE_IN_REGISTERS || PSC_GROUP_COPIES_STATE
 #define PSC_UNROLL_STATE PSC_UNROLL
 #else
 #define PSC_UNROLL_STATE _Pragma("unroll 1")
@@ -89,6 +112,9 @@
 // side of large games is compiled in parallel units, as the CUDA code is).
 #define PSC_COLD inline __attribute__((noinline))
 #define PSC_RULE
+#define PSC_RULE_APART
+#define PSC_GROUP
+#define PSC_GROUP_COPIES_STATE 0
 #define PSC_LAYER inline
 #define PSC_TURN PSC_INLINE
 // One copy of an input's processing, called wherever the host steps (every
@@ -129,6 +155,9 @@ PSC_DEVICE PSC_INLINE int popcount(u64 x) {
 // compares instead, which keeps them in registers.
 #if defined(__CUDA_ARCH__) && PSC_STATE_IN_REGISTERS
 constexpr bool kSelectWords = kWords > 1 && kWords <= 4;
+#elif defined(__CUDA_ARCH__) && PSC_GROUP_COPIES_STATE
+// A group's copy is only as large as the boards it touches.
+constexpr bool kSelectWords = kWords > 1 && kWords <= 8;
 #else
 constexpr bool kSelectWords = false;
 #endif
@@ -401,6 +430,62 @@ struct Turn {
 #endif
     u64 banned;  // banned rigid groups, by rigid index (bit 63: a ban that names no group)
 };
+
+// A rule group's working copy (the groups layout): the group runs on copies
+// of the environment and the turn that ptxas keeps in registers, and writes
+// back what changed when it returns.  Rules change only the boards, the
+// command queue, the queued message and the turn's rigid claims (a group that
+// draws from the random stream, which rules index at run time, works in
+// place); a field written back only where it differs lets the compiler drop
+// the loads and stores of everything the group never touches.
+template <typename T>
+PSC_DEVICE PSC_INLINE void keepIfChanged(T& to, const T& from) {
+    if (!(to == from)) to = from;
+}
+
+PSC_DEVICE PSC_INLINE void keepRuleChanges(Env& to, const Env& from) {
+    PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) keepIfChanged(to.obj[o], from.obj[o]);
+    PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) keepIfChanged(to.mov[m], from.mov[m]);
+    keepIfChanged(to.queue, from.queue);
+#if PSC_HAS_RULE_MESSAGES
+    keepIfChanged(to.queuedMessage, from.queuedMessage);
+#endif
+}
+
+PSC_DEVICE PSC_INLINE void keepRuleChanges(Turn& to, const Turn& from) {
+#if PSC_HAS_RIGID
+    PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) keepIfChanged(to.rigidGroup[m], from.rigidGroup[m]);
+    PSC_UNROLL_STATE for (int l = 0; l < kLayers; ++l) keepIfChanged(to.rigidApplied[l], from.rigidApplied[l]);
+#endif
+    keepIfChanged(to.banned, from.banned);
+}
+
+struct GroupWorkingCopy {
+    Env& env;
+    Turn& turn;
+    Env e;
+    Turn t;
+    PSC_DEVICE PSC_INLINE GroupWorkingCopy(Env& env_, Turn& turn_) : env(env_), turn(turn_), e(env_), t(turn_) {}
+    PSC_DEVICE PSC_INLINE ~GroupWorkingCopy() {
+        keepRuleChanges(env, e);
+        keepRuleChanges(turn, t);
+    }
+};
+
+// Opens a group function whose parameters are (Env& env, Turn& turn): its
+// body works on `e` and `t`, copies or the originals.
+#if PSC_GROUP_COPIES_STATE
+#define PSC_GROUP_WORKING_COPY(env, turn)     \
+    GroupWorkingCopy working_(env, turn);     \
+    Env& e = working_.e;                      \
+    Turn& t = working_.t
+#else
+#define PSC_GROUP_WORKING_COPY(env, turn) PSC_GROUP_IN_PLACE(env, turn)
+#endif
+// A group that works on the state where it lies.
+#define PSC_GROUP_IN_PLACE(env, turn) \
+    Env& e = env;                     \
+    Turn& t = turn
 
 // A turn's largest locals: its Turn, the level as the turn found it, and
 // with rigid bodies the movements its retries start from.

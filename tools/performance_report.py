@@ -5,20 +5,21 @@ steps/s on one thread of the development machine, the ratio, PuzzleJAX's
 figure and the ratio to it, and the cold build of its CUDA plugin; then the
 geometric means against issue 18's bars.
 
-  tools/performance_report.py --gpu-bench DIR --cpu-bench MD [MD ...] --buildtime TXT [--layouts DIR2]
+  tools/performance_report.py --psc PSC --gpu-bench DIR [DIR ...] --cpu-bench MD [MD ...] --buildtime TXT
 
-DIR holds `tools/gpu_check.sh bench`'s outputs (GAME.txt), each MD a
-`bench/cpu_bench.sh` table (the best figure of a game over the files counts:
-the development machine's speed varies by half between runs, and a slower run
-would flatter the ratio), TXT `tools/gpu_check.sh buildtime`'s output (its
-default, parallel builds: each game's range over its repeats; the bars
-take each game's median and the slowest single build).  A game's layout is
-read from its bench output's compile line; where its plugin came from the
-cache (`gpu_check.sh prebuild`), from DIR2's output of the same game."""
+Each DIR holds `tools/gpu_check.sh bench`'s outputs (GAME.txt); a game's
+figures come from the last DIR that has it.  Each MD is a `bench/cpu_bench.sh`
+table (the best figure of a game over the files counts: the development
+machine's speed varies by half between runs, and a slower run would flatter
+the ratio), TXT `tools/gpu_check.sh buildtime`'s output (its default,
+parallel builds: each game's range over its repeats; the bars take each
+game's median and the slowest single build).  A game's layout is the one
+PSC generates for its level 0 (`--emit cuda`)."""
 import argparse
 import math
 import os
 import re
+import subprocess
 from statistics import median
 
 # PuzzleJAX's best steps/s on the same GPU model (issue 4), millions.
@@ -32,9 +33,18 @@ def gpu_bench(path):
     text = open(path).read()
     rows = {int(m.group(1)): float(m.group(2)) for m in re.finditer(r"^\s+(\d+)\s+\d+\s+(\d+)\s+\d+\s+\d+$", text, re.M)}
     best = re.search(r"best batch (\d+)\nsteps/s: (\d+)", text)
-    units = re.search(r"CUDA compile \(nvrtc(?:, (\d+) units)?\)", text)
-    layout = f"memory, {units.group(1)} units" if units and units.group(1) else "registers" if units else "?"
-    return {"best": float(best.group(2)), "best_batch": int(best.group(1)), "rows": rows, "layout": layout}
+    return {"best": float(best.group(2)), "best_batch": int(best.group(1)), "rows": rows}
+
+
+def layout(psc, game):
+    """The GPU state layout psc generates for the game's level 0, with its compile units."""
+    source = subprocess.run([psc, game, "--emit", "cuda", "--levels", "0"], capture_output=True, text=True,
+                            check=True, timeout=300).stdout
+    define = lambda name: int(re.search(rf"^#define {name} (\d+)", source, re.M).group(1))
+    units = define("PSC_COMPILE_UNITS")
+    if define("PSC_STATE_IN_REGISTERS"):
+        return "registers"
+    return f"{'groups' if define('PSC_STATE_IN_GROUPS') else 'memory'}, {units} units"
 
 
 def cpu_bench(paths):
@@ -69,23 +79,27 @@ def geomean(values):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--gpu-bench", required=True)
+    ap.add_argument("--psc", required=True)
+    ap.add_argument("--games", default="bench/games", help="the benchmark games' folder")
+    ap.add_argument("--gpu-bench", nargs="+", required=True)
     ap.add_argument("--cpu-bench", nargs="+", required=True)
     ap.add_argument("--buildtime", required=True)
-    ap.add_argument("--layouts", help="bench outputs that name the layouts, where --gpu-bench's plugins came from the cache")
     a = ap.parse_args()
     cpu = cpu_bench(a.cpu_bench)
     builds = build_times(a.buildtime)
-    games = sorted((os.path.splitext(f)[0] for f in os.listdir(a.gpu_bench) if f.endswith(".txt")),
-                   key=lambda g: -gpu_bench(os.path.join(a.gpu_bench, g + ".txt"))["best"])
+    bench = {}
+    for folder in a.gpu_bench:
+        for f in os.listdir(folder):
+            if f.endswith(".txt"):
+                bench[os.path.splitext(f)[0]] = gpu_bench(os.path.join(folder, f))
+    games = sorted(bench, key=lambda g: -bench[g]["best"])
     print("| game | layout | GPU steps/s, best batch | " + " | ".join(f"batch {b:,}" for b in SMALL_BATCHES) +
           " | CPU steps/s, 1 thread | GPU / CPU | PuzzleJAX | GPU / PuzzleJAX | cold CUDA build |")
     print("|---|---|---:|" + "---:|" * len(SMALL_BATCHES) + "---:|---:|---:|---:|---:|")
     to_cpu, to_jax = [], []
     for g in games:
-        r = gpu_bench(os.path.join(a.gpu_bench, g + ".txt"))
-        if r["layout"] == "?" and a.layouts:
-            r["layout"] = gpu_bench(os.path.join(a.layouts, g + ".txt"))["layout"]
+        r = bench[g]
+        r["layout"] = layout(a.psc, os.path.join(a.games, g + ".txt"))
         small = " | ".join(si(r["rows"][b]) if b in r["rows"] else "" for b in SMALL_BATCHES)
         ratio_cpu = r["best"] / cpu[g]
         ratio_jax = r["best"] / (PUZZLEJAX_M[g] * 1e6)

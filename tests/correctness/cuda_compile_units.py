@@ -14,8 +14,8 @@ import subprocess
 import sys
 import tempfile
 
-DEFINITION = re.compile(r"^\s*PSC_DEVICE PSC_RULE [\w ]+? (\w+)\([^;]*\) \{$")
-DECLARATION = re.compile(r"^\s*PSC_DEVICE PSC_RULE [\w ]+? (\w+)\([^{]*\);$")
+DEFINITION = re.compile(r"^\s*PSC_DEVICE PSC_(?:RULE|GROUP) [\w ]+? (\w+)\([^;]*\) \{$")
+DECLARATION = re.compile(r"^\s*PSC_DEVICE PSC_(?:RULE|GROUP) [\w ]+? (\w+)\([^{]*\);$")
 
 
 def unit_definitions(source):

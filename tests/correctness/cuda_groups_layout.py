@@ -1,0 +1,130 @@
+#!/usr/bin/python3
+"""The groups layout (--gpu-state groups, templates/core.h): each rule group is
+compiled with its rules inlined, on a copy of the state that ptxas keeps in
+registers.  For each game:
+
+- the groups on a copy, and the rules they inline, are defined in units
+  1..PSC_GROUP_UNITS; functions that work in place (groups apart, and a split
+  group's pass over its parts) are not on a copy;
+- a group larger than the part budget passes over parts of its rules, and the
+  parts call the rules in the order the memory layout's group calls them;
+- NVRTC compiles and links every unit, and no group on a copy keeps a frame
+  in local memory (the copy stayed in registers).
+
+    cuda_groups_layout.py PSC GAME... [--large-group GAME]
+
+--large-group builds that game with one group of many rules added, which
+must be split into parts."""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+GROUP = re.compile(r"^\s*PSC_DEVICE PSC_GROUP bool (\w+)\(Env& env, Turn& turn\) \{\n\s*(PSC_GROUP_\w+)\(env, turn\);", re.M)
+RULE = re.compile(r"^\s*PSC_DEVICE PSC_RULE bool (\w+)\(Env& e, Turn& t\) \{", re.M)
+
+
+def units_of(source):
+    """{unit: text} of the #if PSC_COMPILES_UNIT(k) blocks."""
+    return {int(m.group(1)): m.group(2)
+            for m in re.finditer(r"^#if PSC_COMPILES_UNIT\((\d+)\)\n(.*?)^#endif  // compile unit", source, re.M | re.S)}
+
+
+def calls(body_start, source):
+    """The functions a group body calls with `any |= f(e, t);`, up to its `return`."""
+    end = source.index("\n    }\n", body_start)
+    return re.findall(r"any \|= (\w+)\(e, t\);", source[body_start:end])
+
+
+def emit(psc, game, *options, env=None):
+    return subprocess.run([psc, game, "--levels", "0", *options], capture_output=True, text=True, timeout=600, env=env)
+
+
+def check(psc, game, failures, expect_parts=False):
+    name = os.path.basename(game)
+    groups = emit(psc, game, "--emit", "cuda", "--gpu-state", "groups")
+    memory = emit(psc, game, "--emit", "cuda", "--gpu-state", "memory", "--cuda-units", "1")
+    if groups.returncode or memory.returncode:
+        failures.append(f"{name}: --emit cuda failed: {groups.stderr[-800:]}{memory.stderr[-800:]}")
+        return
+    source = groups.stdout
+    copy_units = int(re.search(r"^#define PSC_GROUP_UNITS (\d+)", source, re.M).group(1))
+    if "#define PSC_STATE_IN_GROUPS 1" not in source or copy_units < 1:
+        failures.append(f"{name}: not built in the groups layout ({copy_units} copy units)")
+        return
+    units = units_of(source)
+    on_copy, split = [], {}
+    for k, text in units.items():
+        for m in GROUP.finditer(text):
+            function, state = m.group(1), m.group(2)
+            if state == "PSC_GROUP_WORKING_COPY":
+                on_copy.append(function)
+                if not 1 <= k <= copy_units:
+                    failures.append(f"{name}: {function} works on a copy in unit {k}, past unit {copy_units}")
+                missing = [r for r in calls(m.end(), text) if not re.search(rf"PSC_RULE bool {r}\(Env& e, Turn& t\) \{{", text)]
+                if missing:
+                    failures.append(f"{name}: {function} calls rules defined in another unit: {missing}")
+            elif re.search(r"_part\d+\(", text[m.end():text.index("\n    }\n", m.end())]):
+                split[function] = calls(m.end(), text)
+    if not on_copy:
+        failures.append(f"{name}: no group works on a copy")
+    # The memory layout's groups call the same rules in the same order.
+    reference = {m.group(1): calls(m.end(), memory.stdout) for m in GROUP.finditer(memory.stdout)}
+    bodies = {m.group(1): calls(m.end(), text) for text in units.values() for m in GROUP.finditer(text)}
+    for group, parts in split.items():
+        flattened = [rule for part in parts for rule in bodies.get(part, ["<missing " + part + ">"])]
+        if flattened != reference.get(group):
+            failures.append(f"{name}: {group}'s parts call {flattened}, the memory layout's group {reference.get(group)}")
+    if expect_parts and not split:
+        failures.append(f"{name}: its large group was not split into parts")
+    with tempfile.TemporaryDirectory() as cache:
+        ptx = emit(psc, game, "--emit", "ptx", "--gpu-state", "groups", "--verbose",
+                   env=dict(os.environ, XDG_CACHE_HOME=cache))
+    if ptx.returncode != 0:
+        failures.append(f"{name}: NVRTC failed on the groups layout: {ptx.stderr[-1500:]}")
+        return
+    for function in on_copy:
+        body = re.search(rf"^\.visible \.func\s+\([^)]*\)\s*\w*{function}\w*\(.*?^\}}", ptx.stdout, re.M | re.S)
+        if body is None:
+            failures.append(f"{name}: {function} not found in the PTX")
+        elif "__local_depot" in body.group(0):
+            failures.append(f"{name}: {function} keeps its copy in local memory")
+    print(f"{name}: {copy_units} copy units, {len(on_copy)} functions on a copy, {len(split)} groups split into parts")
+
+
+LARGE_GROUP = "\n".join(
+    ["[ > Player | Crate ] -> [ > Player | > Crate ]"] +
+    [f"+ [ > Player | Crate | {'| ' * k}Crate ] -> [ > Player | > Crate | {'| ' * k}Crate ]" for k in range(12)])
+
+
+def with_large_group(game, tmp):
+    """The game with a group of many rules added at the end of its rules."""
+    text = open(game).read()
+    rules = re.search(r"^=+\s*\nRULES\s*\n=+\s*\n", text, re.M | re.I)
+    path = os.path.join(tmp, "large_group_" + os.path.basename(game))
+    with open(path, "w") as f:
+        f.write(text[:rules.end()] + LARGE_GROUP + "\n" + text[rules.end():])
+    return path
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("psc")
+    ap.add_argument("games", nargs="+")
+    ap.add_argument("--large-group")
+    a = ap.parse_args()
+    failures = []
+    for game in a.games:
+        check(a.psc, game, failures)
+    if a.large_group:
+        with tempfile.TemporaryDirectory() as tmp:
+            check(a.psc, with_large_group(a.large_group, tmp), failures, expect_parts=True)
+    for f in failures:
+        print("FAIL", f)
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == "__main__":
+    main()
