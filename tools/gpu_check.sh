@@ -26,8 +26,8 @@
 #   fuzz      a fuzz campaign on the device machine's cores (tools/fuzz_campaign.sh --jobs $(nproc)), FUZZ_SECONDS
 #             per target (default 60), FUZZ_TARGETS (default all three); needs device_bundle.sh's FUZZ=1 bundle
 #   buildtime cold `psc GAME -o GAME.so --target cuda --levels 0` of each benchmark game (fresh cache), end to end,
-#             host side in one compile process (PSC_COMPILE_JOBS=1) and in parallel ones (the default), in turn,
-#             BUILD_REPEATS times (default 2); table in buildtime.txt
+#             host side in one compile process (PSC_COMPILE_JOBS=1) and in parallel ones (the default), in turn
+#             (BUILD_JOBS="0": the default only), BUILD_REPEATS times (default 2); table in buildtime.txt
 #   profile   Nsight Compute on each benchmark game's stepping kernel (PROFILE_BATCH environments, default 131072,
 #             8 steps a launch, level 0): one CSV per game in profile.tar.gz; bench/ncu_table.py makes the table
 #   multigpu  (several GPUs) python/tests/test_multi_gpu.py; then for each of MULTI_GAMES (game:batches, batches
@@ -40,6 +40,7 @@
 # REPLAY_VERBOSE=1 keeps each case's compile, batch and stepping times in the report;
 # SANITIZE_EVERY picks every Nth carried case for the sanitizer, SANITIZE_IDS (a file of
 # case ids) names them instead, SANITIZE_JOBS sets how many run at once.
+# PSC names another psc to run (default device/bin/psc; another build installed under device/, say).
 # Results go to $OUT (default out/gpu).   tools/gpu_check.sh compile bench
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -51,7 +52,7 @@ export XDG_CACHE_HOME=${XDG_CACHE_HOME:-/tmp/psc-cache}
 if [ -f device/cache.tar.xz ] && [ ! -d "$XDG_CACHE_HOME/psc" ]; then
     mkdir -p "$XDG_CACHE_HOME" && tar -xJf device/cache.tar.xz -C "$XDG_CACHE_HOME"
 fi
-psc=$PWD/device/bin/psc
+psc=${PSC:-$PWD/device/bin/psc}
 corpus=/tmp/psc-corpus
 if [ ! -f $corpus/INDEX.json ]; then mkdir -p $corpus && tar -xJf device/corpus.tar.xz -C $corpus; fi
 jobs=$(nproc)
@@ -203,7 +204,7 @@ for stage in "$@"; do
         for _ in $(seq "${BUILD_REPEATS:-2}"); do
             for game in bench/games/*.txt; do
                 name=$(basename "$game" .txt)
-                for jobs in 1 0; do
+                for jobs in ${BUILD_JOBS:-1 0}; do
                     cache=$(mktemp -d)
                     start=$(date +%s.%N)
                     PSC_COMPILE_JOBS=$jobs XDG_CACHE_HOME=$cache "$psc" "$game" -o "$cache/$name.so" --target cuda --levels 0 \
