@@ -43,7 +43,7 @@ SolveResult beamSearch(SearchRun& run, size_t width) {
                 if (b.flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");
                 const uint32_t parent = layer[begin + c / inputs];
                 if (b.flags[c] & PSC_EXPAND_WON) return run.solved(parent, static_cast<int>(c % inputs));
-                if (b.flags[c] & PSC_EXPAND_UNCHANGED || run.store.contains(&b.children[c * words], b.hashes[c])) continue;
+                if (b.flags[c] & kChildNotSearched || run.store.contains(&b.children[c * words], b.hashes[c])) continue;
                 keys.insert(keys.end(), &b.children[c * words], &b.children[(c + 1) * words]);
                 hashes.push_back(b.hashes[c]);
                 parents.push_back(parent);

@@ -63,7 +63,7 @@ SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight) {
             if (b.flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");
             const uint32_t parent = taken[c / inputs];
             if (b.flags[c] & PSC_EXPAND_WON) return run.solved(parent, static_cast<int>(c % inputs));
-            if (b.flags[c] & PSC_EXPAND_UNCHANGED) continue;
+            if (b.flags[c] & kChildNotSearched) continue;
             uint32_t child = 0;
             const StateStore::Insert r = run.add(&b.children[c * words], b.hashes[c], parent, static_cast<uint8_t>(c % inputs),
                                                  run.store.depth(parent) + 1, &child);

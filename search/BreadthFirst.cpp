@@ -28,7 +28,7 @@ SolveResult breadthFirst(SearchRun& run) {
             for (size_t c = 0; c < count * inputs; ++c) {
                 if (b.flags[c] & PSC_EXPAND_INVALID) throw std::runtime_error("the plugin refused to expand a state");
                 if (b.flags[c] & PSC_EXPAND_WON) return run.solved(layer[begin + c / inputs], static_cast<int>(c % inputs));
-                if (b.flags[c] & PSC_EXPAND_UNCHANGED) continue;
+                if (b.flags[c] & kChildNotSearched) continue;
                 uint32_t child = 0;
                 const StateStore::Insert r = run.add(&b.children[c * words], b.hashes[c], layer[begin + c / inputs],
                                                      static_cast<uint8_t>(c % inputs), depth + 1, &child);

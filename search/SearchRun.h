@@ -70,6 +70,12 @@ struct ExpandBuffers {
     void fit(size_t count, size_t words, size_t inputs, bool withEstimates);
 };
 
+// Children no search goes on from: those equal to their parent, and those
+// reached through an `again` chain that never settles (cut off after 10,000
+// turns): the original engine never finishes that input, and its player
+// takes no input while a chain runs, so no solution passes through them.
+constexpr uint8_t kChildNotSearched = PSC_EXPAND_UNCHANGED | PSC_EXPAND_CUT_OFF;
+
 // Expands stored states states[0..count) into b (their keys gathered first;
 // estimates too when asked) and counts them in run.result.
 void expandStored(SearchRun& run, const uint32_t* states, size_t count, ExpandBuffers& b, bool withEstimates);

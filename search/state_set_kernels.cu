@@ -20,6 +20,7 @@ typedef unsigned long long u64;
 // psc_expand's flags (runtime/psc_plugin.h).
 #define PSC_WON 1u
 #define PSC_UNCHANGED 2u
+#define PSC_CUT_OFF 4u
 #define PSC_INVALID 8u
 
 struct StateSet {
@@ -76,7 +77,7 @@ extern "C" __global__ void psc_set_insert(StateSet s, const u64* children, const
         atomicMin(&counters->won, (static_cast<u64>(firstParent + child / inputCount) << 8) | (child % inputCount));
         return;
     }
-    if (f & PSC_UNCHANGED) return;
+    if (f & (PSC_UNCHANGED | PSC_CUT_OFF)) return;  // kChildNotSearched (SearchRun.h)
     const u64* key = children + static_cast<u64>(child) * s.words;
     const u32 mine = PSC_CANDIDATE | child;
     // The host keeps the table at most about three quarters full, so the probe ends.

@@ -63,6 +63,8 @@ EXPECTED = [
     ("bump_plain.txt", 1, "solved", "xrr"),
     ("bump_required.txt", 0, "exhausted", None),  # require_player_movement undoes the bump
     ("bump_required.txt", 1, "exhausted", None),  # and the action
+    ("endless.txt", 0, "exhausted", None),  # the door opens only with a shuttle that never stops
+    ("endless.txt", 1, "solved", "ll"),
 ]
 
 for game, level, status, solution in EXPECTED:
@@ -89,6 +91,12 @@ for algorithm in ["astar", "wastar", "greedy", "beam", "portfolio"]:
         if records and records[0]["solution"]:
             check(records[0]["algorithm"] == algorithm, f"{what}: algorithm recorded")
             check(wins_exactly_at_end(GAMES / game, level, records[0]["solution"]), f"{what}: replay wins")
+
+# No algorithm goes on from a state reached through an again chain that was cut off.
+for algorithm in ["bfs", "astar", "wastar", "greedy", "beam", "portfolio"]:
+    code, records, err = solve(GAMES / "endless.txt", "--level", "0", "--algorithm", algorithm)
+    check(code == 1 and records and records[0]["status"] == "exhausted",
+          f"{algorithm} endless level 0: exhausted ({records} {err.strip()})")
 
 # Beam search: a beam wide enough to keep every state is breadth-first (the
 # shortest solution, and an unsolvable level exhausted); one too narrow for
