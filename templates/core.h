@@ -53,8 +53,8 @@
 #define PSC_DEVICE __device__
 #define PSC_INLINE __forceinline__
 #define PSC_COLD inline __noinline__
-// PSC_RULE_APART: a rule of a group the groups layout keeps out of line (too
-// large to compile inlined in time).
+// PSC_RULE_APART: a rule of a group the groups layout keeps out of line (a
+// random group too large to compile inlined in time, which cannot be split).
 #if PSC_STATE_IN_REGISTERS
 #define PSC_RULE __forceinline__
 #define PSC_RULE_APART __forceinline__
