@@ -89,9 +89,9 @@ std::string deviceCodeKey(const std::string& cudaSource, const GameBuildOptions&
 namespace {
 
 // compileDeviceCode for a cudaSource already made.
-std::optional<CudaCompileResult> compileDeviceSource(const std::string& source, const std::string& text,
-                                                     const std::string& path, const GameBuildOptions& options,
-                                                     codegen::DeviceCodeFiles* files) {
+std::optional<CudaCompileResult> compileDeviceSource(const std::string& source, const std::string& layout,
+                                                     const std::string& text, const std::string& path,
+                                                     const GameBuildOptions& options, codegen::DeviceCodeFiles* files) {
     const std::string key = deviceCodeKey(source, options);
     const fs::path dir = options.build.cacheDir.empty() ? defaultCacheDir() : options.build.cacheDir;
     const fs::path cubinPath = dir / (key + ".cubin");
@@ -135,7 +135,7 @@ std::optional<CudaCompileResult> compileDeviceSource(const std::string& source, 
         fmt::print(stderr, "{}: error: compiling the CUDA code failed\n{}\n", path, r.log);
         return std::nullopt;
     }
-    fmt::print(stderr, "psc: CUDA compile ({}{}) {:.2f} s\n", options.cuda.compiler,
+    fmt::print(stderr, "psc: CUDA compile ({}, {} layout{}) {:.2f} s\n", options.cuda.compiler, layout,
                r.units > 1 ? fmt::format(", {} units", r.units) : std::string(), r.seconds);
     fs::create_directories(dir, ec);
     const bool stored = writeCacheFile(cubinPath, std::string_view(r.cubin.data(), r.cubin.size())) &&
@@ -155,7 +155,9 @@ std::optional<CudaCompileResult> compileDeviceSource(const std::string& source, 
 std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const std::string& text,
                                                    const std::string& path, const GameBuildOptions& options,
                                                    codegen::DeviceCodeFiles* files) {
-    return compileDeviceSource(codegen::cudaSource(game, sourceOptions(text, path, options)), text, path, options, files);
+    codegen::SourceOptions so = sourceOptions(text, path, options);
+    so.decidedRuleForm = codegen::ruleForm(game, so);
+    return compileDeviceSource(codegen::cudaSource(game, so), codegen::gpuStateLayout(game, so), text, path, options, files);
 }
 
 std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text, const std::string& path,
@@ -173,7 +175,9 @@ std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text
         const std::string deviceSource = codegen::cudaSource(game, so);
         PluginBuild host(codegen::cudaPluginSource(game, so), build, deviceCodeKey(deviceSource, options));
         codegen::DeviceCodeFiles files;
-        if (!host.cached() && !compileDeviceSource(deviceSource, text, path, options, &files)) return nullptr;
+        if (!host.cached() && !compileDeviceSource(deviceSource, codegen::gpuStateLayout(game, so), text, path, options, &files)) {
+            return nullptr;
+        }
         built = host.cached() ? host.finish() : host.finish(codegen::deviceCodeSource(files));
     }
     if (!built.ok) {

@@ -656,6 +656,11 @@ int hostCompileUnits(const ir::Game& game, const SourceOptions& options) {
     return options.target == "cpu" ? 1 : gpuCode(game, options, ruleForm(game, options)).units;
 }
 
+std::string gpuStateLayout(const ir::Game& game, const SourceOptions& options) {
+    const GpuCode gpu = gpuCode(game, options, ruleForm(game, options));
+    return gpu.inRegisters ? "registers" : gpu.inGroups ? "groups" : gpu.inShared ? "shared" : "memory";
+}
+
 std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     CodeWriter out;
     const RuleFormChoice form = ruleForm(game, options);

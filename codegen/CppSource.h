@@ -85,6 +85,9 @@ std::string deviceCodeSource(const DeviceCodeFiles& device);
 // path; 1 for CPU plugins, whose stepping loses up to 43 % (slidings) when
 // its rules and groups are compiled apart from the turn.
 int hostCompileUnits(const ir::Game& game, const SourceOptions& options);
+// The GPU state layout the source gets: registers, groups, memory or shared
+// (templates/core.h).
+std::string gpuStateLayout(const ir::Game& game, const SourceOptions& options);
 
 // Words of 64 bits per bitboard for the largest level built.
 int boardWords(const ir::Game& game, const SourceOptions& options);

@@ -83,7 +83,7 @@ for stage in "$@"; do
                 done
                 printf '%-16s %-9s min %6s s  median %6s s  %-8s %s\n' "$name" "$layout" \
                     $(printf '%s\n' "${times[@]}" | sort -g | awk '{t[NR] = $1} END {print t[1], t[int((NR + 1) / 2)]}') \
-                    "$(sed -n 's/.*CUDA compile (nvrtc, \([0-9]*\) units).*/\1 units/p' "$log")" \
+                    "$(sed -n 's/.*CUDA compile (nvrtc, [a-z]* layout, \([0-9]*\) units).*/\1 units/p' "$log")" \
                     "$(grep -A3 "entry function 'psc_run_kernel'" "$log" | grep -E 'stack frame|Used' | sed 's/.*ptxas[ a-z]*: *\.* *//' | tr '\n' ' ')"
             done
         done | tee "$out/compile_times.txt"
