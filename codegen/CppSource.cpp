@@ -595,7 +595,11 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
         const bool random = i < game.rules.size() ? game.rules[i].random : game.lateRules[i - game.rules.size()].random;
         const bool apart = random && bytes * static_cast<size_t>(words) > kGroupCopyBudget;
         gpu.rules.apart.push_back(apart);
-        (apart ? apartBytes : copiedWeight) += apart ? bytes : bytes * static_cast<size_t>(words);
+        if (apart) {
+            apartBytes += bytes;
+        } else {
+            copiedWeight += bytes * static_cast<size_t>(words);
+        }
     }
     gpu.rules.partBytes = kGroupCopyBudget / static_cast<size_t>(words);
     gpu.rules.copyWeight = static_cast<size_t>(words);

@@ -39,7 +39,7 @@
 // defines the kernels, the turn and the plugin's host side, unit k > 0 some
 // of the rules and groups
 // (PSC_COMPILES_UNIT(k)), which are the only functions one unit calls in
-// another (PSC_RULE).  Every other function is inline: a unit compiles only
+// another (PSC_RULE, PSC_GROUP).  Every other function is inline: a unit compiles only
 // those it uses, and copies in several units link as one.  Compiled as one
 // program (PSC_UNIT not set), the source defines everything.
 #if defined(PSC_UNIT)
