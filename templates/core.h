@@ -215,12 +215,17 @@ struct Board {
         const u64 m = 1ull << (p & 63);
         update(p >> 6, [m](u64 v) { return v & ~m; });
     }
-    // Sets bit p to v; returns whether it changed.
+    PSC_DEVICE PSC_INLINE void flip(int p) {
+        const u64 m = 1ull << (p & 63);
+        update(p >> 6, [m](u64 v) { return v ^ m; });
+    }
+    // Sets bit p to v; returns whether it changed.  Stores only a change:
+    // most assignments (a layer's other objects cleared) change nothing, and
+    // a state in local memory pays for every store.
     PSC_DEVICE PSC_INLINE bool assign(int p, bool v) {
-        const bool was = test(p);
-        if (v) set(p);
-        else clear(p);
-        return was != v;
+        const bool changes = test(p) != v;
+        if (changes) flip(p);
+        return changes;
     }
     // The lowest set position (the board must not be empty), and clearing it.
     PSC_DEVICE PSC_INLINE int lowest() const {
@@ -373,6 +378,12 @@ struct Snapshot {
     Board obj[kObjects];
 };
 
+// Only the layers in kMovingLayerBits ever hold a movement (the player's, and
+// those rules move); movement loops skip the others' always-empty boards.
+PSC_DEVICE PSC_INLINE constexpr bool layerCanMove(int layer) {
+    return layer >= 64 || ((kMovingLayerBits >> layer) & 1u);
+}
+
 // One environment: the level buffer and everything the reference engine
 // keeps between inputs.
 struct Env {
@@ -445,7 +456,10 @@ PSC_DEVICE PSC_INLINE void keepIfChanged(T& to, const T& from) {
 
 PSC_DEVICE PSC_INLINE void keepRuleChanges(Env& to, const Env& from) {
     PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) keepIfChanged(to.obj[o], from.obj[o]);
-    PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) keepIfChanged(to.mov[m], from.mov[m]);
+    PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
+        if (!layerCanMove(L)) continue;
+        PSC_UNROLL for (int k = 0; k < 5; ++k) keepIfChanged(to.mov[5 * L + k], from.mov[5 * L + k]);
+    }
     keepIfChanged(to.queue, from.queue);
 #if PSC_HAS_RULE_MESSAGES
     keepIfChanged(to.queuedMessage, from.queuedMessage);

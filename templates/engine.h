@@ -88,7 +88,10 @@ PSC_DEVICE PSC_INLINE void clearMovementsAfterRestore(Env& e) {
         clearMovementsLingering(e);
         return;
     }
-    PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
+    PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
+        if (!layerCanMove(L)) continue;
+        PSC_UNROLL for (int k = 0; k < 5; ++k) e.mov[5 * L + k] = Board::zero();
+    }
 }
 
 PSC_DEVICE PSC_INLINE void restoreLevel(Env& e, const Snapshot& s) {
@@ -282,7 +285,10 @@ PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, TurnScratch& scratch) {
     // A retry starts from the objects in bak (the player's movement changed
     // only movements) and these movements.
     Board* startMov = scratch.startMov;
-    PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) startMov[m] = e.mov[m];
+    PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
+        if (!layerCanMove(L)) continue;
+        PSC_UNROLL for (int k = 0; k < 5; ++k) startMov[5 * L + k] = e.mov[5 * L + k];
+    }
     for (int iteration = 1;; ++iteration) {
         applyEarlyRules(e, t);
         if (!resolveMovements(e, t)) {
@@ -291,7 +297,10 @@ PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, TurnScratch& scratch) {
         }
         // A rigid group was banned: start over without it (at most 50 tries).
         loadObjects(e, bak);
-        PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = startMov[m];
+        PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
+            if (!layerCanMove(L)) continue;
+            PSC_UNROLL for (int k = 0; k < 5; ++k) e.mov[5 * L + k] = startMov[5 * L + k];
+        }
         clearRigidClaims(t);
         e.queue = 0;
         if (iteration >= 50) break;

@@ -50,7 +50,7 @@ PSC_DEVICE PSC_INLINE u8 movementField(const Env& e, int layer, int p) {
 PSC_DEVICE PSC_INLINE bool repositionCell(Env& e, int p) {
     u8 stored[kLayers];
     u8 fields[kLayers];
-    PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) stored[L] = fields[L] = movementField(e, L, p);
+    PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) stored[L] = fields[L] = layerCanMove(L) ? movementField(e, L, p) : 0;
     bool moved = false;
     int reads = 0;
     PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
@@ -65,15 +65,23 @@ PSC_DEVICE PSC_INLINE bool repositionCell(Env& e, int p) {
             moved = true;
         }
     }
+    // Moving only clears bits of a layer's field: write back those.
     PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
-        PSC_UNROLL for (int k = 0; k < 5; ++k) e.mov[5 * L + k].assign(p, (fields[L] >> k) & 1);
+        const int cleared = stored[L] & ~fields[L];
+        if (cleared == 0) continue;
+        PSC_UNROLL for (int k = 0; k < 5; ++k) {
+            if ((cleared >> k) & 1) e.mov[5 * L + k].clear(p);
+        }
     }
     return moved;
 }
 
 PSC_DEVICE PSC_INLINE Board movingCells(const Env& e) {
     Board any = Board::zero();
-    PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) any = any | e.mov[m];
+    PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
+        if (!layerCanMove(L)) continue;
+        PSC_UNROLL for (int k = 0; k < 5; ++k) any = any | e.mov[5 * L + k];
+    }
     return any;
 }
 
@@ -100,7 +108,7 @@ PSC_DEVICE PSC_INLINE bool resolveMovements(Env& e, Turn& t) {
             const int p = w * 64 + lowestBit(bits);
             bits &= bits - 1;
             PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
-                if (movementField(e, L, p) == 0 || !t.rigidApplied[L].test(p)) continue;
+                if (!layerCanMove(L) || movementField(e, L, p) == 0 || !t.rigidApplied[L].test(p)) continue;
                 int claim = 0;
                 PSC_UNROLL for (int k = 0; k < 5; ++k) claim |= static_cast<int>(t.rigidGroup[5 * L + k].test(p)) << k;
                 const int rigidIndex = claim - 1;
@@ -116,7 +124,10 @@ PSC_DEVICE PSC_INLINE bool resolveMovements(Env& e, Turn& t) {
 #else
     (void)t;
 #endif
-    PSC_UNROLL_STATE for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
+    PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
+        if (!layerCanMove(L)) continue;
+        PSC_UNROLL for (int k = 0; k < 5; ++k) e.mov[5 * L + k] = Board::zero();
+    }
     return banned;
 }
 
