@@ -3,8 +3,11 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 
+#include "CppSource.h"
 #include "SourceFile.h"
 
 namespace psc::cli {
@@ -102,12 +105,31 @@ int runSolve(const SolveCommandOptions& o) {
             return 2;
         }
     }
-    GameBuildOptions build = o.build;
-    build.target = o.backend == "cuda" ? "cuda" : "cpu";
-    build.levels = levels;  // keys and boards sized for the levels searched
-    build.searchKernels = true;
-    auto plugin = loadPlugin(*game, *text, o.gamePath, build);
-    if (!plugin) return 2;
+    // Bitboards, keys and (on the GPU) the state layout are sized for the
+    // largest level a plugin holds, so levels of one board size share a
+    // plugin, built when its first level comes up.
+    std::map<int, std::vector<int>> levelsOfWords;
+    std::map<int, int> wordsOfLevel;
+    for (int level : levels) {
+        codegen::SourceOptions one;
+        one.levels = {level};
+        const int words = codegen::boardWords(*game, one);
+        wordsOfLevel[level] = words;
+        levelsOfWords[words].push_back(level);
+    }
+    std::map<int, std::unique_ptr<Plugin>> plugins;
+    auto pluginFor = [&](int level) -> Plugin* {
+        const int words = wordsOfLevel[level];
+        auto& plugin = plugins[words];
+        if (!plugin) {
+            GameBuildOptions build = o.build;
+            build.target = o.backend == "cuda" ? "cuda" : "cpu";
+            build.levels = levelsOfWords[words];
+            build.searchKernels = true;
+            plugin = loadPlugin(*game, *text, o.gamePath, build);
+        }
+        return plugin.get();
+    };
 
     search::SolveOptions so;
     so.algorithm = *algorithm;
@@ -123,6 +145,8 @@ int runSolve(const SolveCommandOptions& o) {
     so.fromInputs = o.fromInputs;
     bool allSolved = true;
     for (int level : levels) {
+        Plugin* plugin = pluginFor(level);
+        if (!plugin) return 2;
         ProgressLine progress(!o.quiet);
         so.progress = [&](const search::Progress& p) { progress.show(level, p); };
         search::SolveResult r;
