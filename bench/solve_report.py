@@ -62,7 +62,9 @@ def run(a):
     games = a.games.split(",") if a.games else GAMES
     by_game = {}
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        for game, records, error in pool.map(lambda g: solve_game(a, g), games):
+        futures = [pool.submit(solve_game, a, g) for g in games]
+        for future in concurrent.futures.as_completed(futures):
+            game, records, error = future.result()
             if records is None:
                 print(f"{game}: error: {error}", file=sys.stderr)
                 continue
@@ -71,10 +73,11 @@ def run(a):
             by_game[game] = records
             solved = sum(r["status"] == "solved" for r in records)
             print(f"{game}: {solved}/{len(records)} solved, {sum(r['seconds'] for r in records):.1f} s", flush=True)
-    with open(a.out, "w") as out:
-        for game in games:
-            for r in by_game.get(game, []):
-                out.write(json.dumps(r) + "\n")
+            # Rewritten as each game ends: a run cut short keeps the games it finished.
+            with open(a.out, "w") as out:
+                for g in games:
+                    for r in by_game.get(g, []):
+                        out.write(json.dumps(r) + "\n")
 
 
 def load(path):
