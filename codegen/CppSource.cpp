@@ -94,34 +94,6 @@ bool lateRandomDirections(const Game& g) {
     return false;
 }
 
-// Layers whose objects can move: the player's (input) and those a rule's
-// replacement gives a movement or a random direction.  The other layers'
-// movement boards stay empty, so movement resolution skips them.  Layers
-// past the 64th count as movable.
-uint64_t movingLayerBits(const Game& g) {
-    uint64_t bits = 0;
-    auto add = [&](int layer) {
-        if (layer >= 0 && layer < 64) bits |= 1ull << layer;
-    };
-    g.playerMask.forEach([&](size_t id) { add(layerOfObject(g, static_cast<int>(id))); });
-    for (const auto* groups : {&g.rules, &g.lateRules}) {
-        for (const auto& group : *groups) {
-            for (const auto& rule : group.rules) {
-                for (const auto& row : rule.rows) {
-                    for (const auto& c : row) {
-                        if (!c.replacement) continue;
-                        for (int L = 0; L < g.layerCount; ++L) {
-                            if (c.replacement->movementsSet.field(L) || c.replacement->randomDirMask.test(static_cast<size_t>(5 * L))) add(L);
-                        }
-                    }
-                }
-            }
-        }
-    }
-    if (g.layerCount > 64) bits = ~0ull;
-    return bits;
-}
-
 template <typename T, typename F>
 std::string list(const std::vector<T>& items, F f, const char* empty = "0") {
     if (items.empty()) return empty;

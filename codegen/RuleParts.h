@@ -38,6 +38,12 @@ struct MovementUpdate {
 // `entityLayer`: the layer of a `random` object just placed, cleared whole.
 std::vector<MovementUpdate> movementUpdates(const ir::Game& game, const ir::Replacement& r, std::optional<int> entityLayer);
 
+// The layers whose objects can move, a bit each: the player's (input) and
+// those a replacement gives a movement or a random direction.  The other
+// layers' movement boards stay empty, so movement resolution skips them
+// (templates/movement.h).  Past 64 layers, every layer counts as moving.
+uint64_t movingLayerBits(const ir::Game& game);
+
 // A rigid rule's claim on the layers its replacement moves: the rigid
 // group's index + 1 (0: the rule claims nothing) and those layers.
 struct RigidClaim {

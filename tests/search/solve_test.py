@@ -98,6 +98,15 @@ for algorithm in ["bfs", "astar", "wastar", "greedy", "beam", "portfolio"]:
     check(code == 1 and records and records[0]["status"] == "exhausted",
           f"{algorithm} endless level 0: exhausted ({records} {err.strip()})")
 
+# Levels of different board sizes get a plugin each (built when the first of
+# them comes up), and every level is still searched and reported in order.
+code, records, err = solve(GAMES / "corridors.txt", "--all-levels", "--verbose")
+check(code == 0 and [r["level"] for r in records] == [0, 1, 2], f"corridors: every level, in order ({records} {err})")
+check([r["solution"] for r in records] == ["rr", "r" * 19, "r"], f"corridors: shortest solutions ({records})")
+check(err.count("psc: plugin ") == 2, f"corridors: one plugin a board size ({err.strip()})")
+for r in records:
+    check(wins_exactly_at_end(GAMES / "corridors.txt", r["level"], r["solution"] or ""), f"corridors level {r['level']}: replay wins")
+
 # Beam search: a beam wide enough to keep every state is breadth-first (the
 # shortest solution, and an unsolvable level exhausted); one too narrow for
 # the cornered crate's level drops states, so its empty beam is a limit.
