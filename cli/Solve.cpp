@@ -63,6 +63,7 @@ nlohmann::ordered_json record(const search::SolveResult& r, int level, int entry
     j["algorithm"] = algorithm;
     j["backend"] = backend;
     if (r.status == search::Status::Limit) j["limit"] = r.limit;
+    if (r.startCutOff) j["start_cut_off"] = true;
     return j;
 }
 
@@ -165,6 +166,8 @@ int runSolve(const SolveCommandOptions& o) {
         } else {
             const std::string what = r.status == search::Status::Solved
                                          ? fmt::format("solved in {} inputs: {}", r.solution.size(), r.solution)
+                                     : r.startCutOff ? std::string("exhausted: its start runs an again chain that never settles "
+                                                                   "(cut off after 10,000 turns), so no input can be played")
                                      : r.status == search::Status::Exhausted ? std::string("exhausted: no reachable state wins")
                                                                              : fmt::format("stopped by the {} limit", r.limit);
             fmt::print("level {} (entry {}): {} ({} expanded, {} states, {:.3f} s)\n", level, entry, what, r.expanded,

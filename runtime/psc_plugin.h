@@ -29,7 +29,7 @@
 extern "C" {
 #endif
 
-#define PSC_ABI_VERSION 3
+#define PSC_ABI_VERSION 4
 
 /* Plugins are built with hidden symbols; these are the exported ones. */
 #if defined(__GNUC__)
@@ -189,6 +189,12 @@ PSC_API int psc_reset(psc_batch* batch, const int32_t* env_ids, int32_t count, c
  * seeding every level load with the string `seed` (UTF-8), as the corpus
  * harness does. */
 PSC_API int psc_reset_entry(psc_batch* batch, int32_t env, int32_t entry, const char* seed);
+/* Whether the last reset of environment `env` (psc_reset, psc_reset_entry or
+ * an automatic reset) started a level whose start turn ran an `again` chain
+ * that never settled and was cut off after 10,000 turns.  The reference
+ * engine never finishes such a start, so no input can be played on it.
+ * Since ABI version 4. */
+PSC_API int psc_start_cut_off(const psc_batch* batch, int32_t env, uint8_t* cut_off);
 /* One action per environment; results may be NULL. */
 PSC_API int psc_step(psc_batch* batch, const int32_t* actions, psc_step_result* results);
 /* Observations of all environments: num_envs * object_count * max_height * max_width bytes. */

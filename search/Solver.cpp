@@ -124,6 +124,12 @@ SolveResult solve(const Plugin& plugin, int level, const SolveOptions& options) 
     if (!(options.timeLimit > 0)) throw std::runtime_error("the time limit must be positive");
     if (!(options.weight >= 1)) throw std::runtime_error("the weight must be at least 1");
     StateSpace space(plugin, options.space, level, options.fromInputs);
+    if (space.rootCutOff()) {
+        SolveResult nothing;
+        nothing.status = Status::Exhausted;
+        nothing.startCutOff = true;
+        return nothing;
+    }
     SolveResult result = options.algorithm == Algorithm::Portfolio
                              ? portfolio(space, options)
                              : runOne(space, options, options.algorithm, options.timeLimit);

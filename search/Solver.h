@@ -62,6 +62,10 @@ struct SolveResult {
     uint64_t unique = 0;      // distinct states reached
     double seconds = 0;
     size_t bytes = 0;         // peak memory of the state store
+    // The level's start ran an `again` chain that never settles (cut off after
+    // 10,000 turns): the reference engine never takes an input there, so
+    // there is nothing to search and the status is exhausted.
+    bool startCutOff = false;
 };
 
 // Throws std::runtime_error on a bad level, input letter or plugin failure.

@@ -58,10 +58,15 @@ StateSpace::StateSpace(const Plugin& plugin, const SpaceOptions& options, int le
     check(plugin.batchCreate(&bo, &batch_), "creating the batch");
     const int32_t env = 0;
     check(plugin.reset(batch_, &env, 1, &level, &options.seed), "starting the level");
+    uint8_t startCutOff = 0;
+    check(plugin.startCutOff(batch_, env, &startCutOff), "starting the level");
+    rootCutOff_ = startCutOff != 0;
     for (char c : fromInputs) {
+        if (rootCutOff_) break;
         const int32_t action = actionOfLetter(c);
         psc_step_result r{};
         check(plugin.step(batch_, &action, &r), "playing --from-inputs");
+        rootCutOff_ = r.cut_off != 0;
         if (r.won) {
             rootWon_ = true;
             break;

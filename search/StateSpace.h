@@ -43,6 +43,9 @@ public:
     const std::vector<uint64_t>& root() const { return root_; }
     uint64_t rootHash() const { return rootHash_; }
     bool rootWon() const { return rootWon_; }  // fromInputs already won the level
+    // The level's start (or an input of fromInputs) ran an `again` chain that
+    // was cut off: the reference engine never finishes it, so nothing follows.
+    bool rootCutOff() const { return rootCutOff_; }
     int entry() const { return entry_; }
     size_t maxBatch() const { return maxBatch_; }
     Backend backend() const { return options_.backend; }
@@ -83,6 +86,7 @@ private:
     std::vector<uint64_t> root_;
     uint64_t rootHash_ = 0;
     bool rootWon_ = false;
+    bool rootCutOff_ = false;
     int entry_ = 0;
     size_t maxBatch_ = 0;
     // Buffers of staged expansion on the CPU.

@@ -397,6 +397,7 @@ struct Env {
     u8 startExisted;         // the entry the environment started at exists
     u8 stopOnWin;            // episodes end at a win (no level change)
     u8 unavailable;          // play reached a level this plugin was built without
+    u8 startCutOff;          // the last reset ran an again chain at the level's start that was cut off
     u8 restarting;           // a restart is in progress (nested restarts are ignored)
     u16 wins;                // levels won since the counter was last reset
     u32 queue;               // commands queued this turn

@@ -511,7 +511,7 @@ struct StepOutcome {
 PSC_DEVICE PSC_COLD void startEpisode(Env& e, UndoStack& u) {
     e.stopOnWin = e.autoReset != kAutoResetOff ? 1 : 0;
     e.unavailable = 0;
-    startAtEntry(e, u, e.levelEntry);
+    e.startCutOff = startAtEntry(e, u, e.levelEntry) ? 0 : 1;
     e.episodeSteps = 0;
     e.needsReset = 0;
 }

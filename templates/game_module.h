@@ -79,6 +79,7 @@ void moduleView(const void* env, psc_host::EnvView* out) {
     out->episodeSteps = e.episodeSteps;
     out->againing = e.againing;
     out->shownMessage = shownMessageOf(e);
+    out->startCutOff = e.startCutOff;
 }
 
 int moduleCellObjects(const void* env, int x, int y, int* ids) {

@@ -85,6 +85,14 @@ class Batch:
     def reset_entry(self, env: int, entry: int, seed: str) -> None:
         self.check(self.lib.psc_reset_entry(self.handle, env, entry, seed.encode("utf-8")), "resetting to an entry")
 
+    def start_cut_off(self, env: int = 0) -> bool:
+        """Whether the last reset of environment `env` started a level whose
+        start turn ran an `again` chain that never settles (psc cuts it off
+        after 10,000 turns; the reference engine never finishes it)."""
+        flag = ctypes.c_uint8(0)
+        self.check(self.lib.psc_start_cut_off(self.handle, env, ctypes.byref(flag)), "reading the start")
+        return bool(flag.value)
+
     def step(self, actions) -> np.ndarray:
         """One step with host actions; returns the psc_step_result array (host)."""
         action_array = _int32s(actions, self.num_envs, "actions")

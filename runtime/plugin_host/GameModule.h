@@ -41,6 +41,7 @@ struct EnvView {
     int episodeSteps;
     int againing;
     int shownMessage;  // rule message index, or -1
+    int startCutOff;   // the last reset's start chain was cut off
 };
 
 // A CUDA batch's device pointers, passed by value to every kernel: the

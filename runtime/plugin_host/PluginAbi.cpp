@@ -266,6 +266,18 @@ PSC_API int psc_reset_entry(psc_batch* batch, int32_t env, int32_t entry, const 
     return PSC_OK;
 }
 
+PSC_API int psc_start_cut_off(const psc_batch* batch, int32_t env, uint8_t* cut_off) {
+    const GameModule& g = game();
+    if (int s = checkEnv(batch, env)) return s;
+    if (!cut_off) return fail(PSC_ERROR_NULL_POINTER, "cut_off is NULL");
+    EnvBuffer e(g.envBytes);
+    if (int s = fetchEnv(batch, env, e)) return s;
+    EnvView v;
+    g.view(e.data(), &v);
+    *cut_off = v.startCutOff ? 1 : 0;
+    return PSC_OK;
+}
+
 PSC_API int psc_step(psc_batch* batch, const int32_t* actions, psc_step_result* results) {
     if (int s = checkBatch(batch)) return s;
     if (!actions) return fail(PSC_ERROR_NULL_POINTER, "actions is NULL");

@@ -191,6 +191,14 @@ def batch_calls(p, path):
              "    assert lib.psc_dump_state(b, 0, buf, need.value, None) == OK\n", path)
     expect(p, "reset_entry back to entry 0", lib.psc_reset_entry(b, 0, 0, b"s"), OK)
 
+    flag = ctypes.c_uint8(7)
+    expect(p, "start_cut_off(NULL batch)", lib.psc_start_cut_off(None, 0, ctypes.byref(flag)), NULL)
+    expect(p, "start_cut_off(NULL cut_off)", lib.psc_start_cut_off(b, 0, None), NULL)
+    for env in (2, -1, INT32_MAX, INT32_MIN):
+        expect(p, f"start_cut_off of environment {env}", lib.psc_start_cut_off(b, env, ctypes.byref(flag)), BAD_ENV)
+    expect(p, "start_cut_off", lib.psc_start_cut_off(b, 0, ctypes.byref(flag)), OK)
+    record(flag.value in (0, 1), "start_cut_off writes 0 or 1")
+
     expect(p, "step(NULL batch)", lib.psc_step(None, I32x2(0, 0), None), NULL)
     expect(p, "step(NULL actions)", lib.psc_step(b, None, None), NULL)
     for action in (8, -1, INT32_MAX, INT32_MIN):
