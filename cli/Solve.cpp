@@ -108,13 +108,17 @@ int runSolve(const SolveCommandOptions& o) {
     }
     // Bitboards, keys and (on the GPU) the state layout are sized for the
     // largest level a plugin holds, so levels of one board size share a
-    // plugin, built when its first level comes up.
+    // plugin, built when its first level comes up.  Under a few seconds a
+    // level, one plugin for all: a build (1-4 s) would cost more than the
+    // searches it speeds up.
+    constexpr double kPluginPerSizeFromSeconds = 5.0;
+    const bool perSize = o.timeLimit >= kPluginPerSizeFromSeconds;
     std::map<int, std::vector<int>> levelsOfWords;
     std::map<int, int> wordsOfLevel;
     for (int level : levels) {
         codegen::SourceOptions one;
         one.levels = {level};
-        const int words = codegen::boardWords(*game, one);
+        const int words = perSize ? codegen::boardWords(*game, one) : 0;
         wordsOfLevel[level] = words;
         levelsOfWords[words].push_back(level);
     }

@@ -119,6 +119,9 @@ check([r["solution"] for r in records] == ["rr", "r" * 19, "r"], f"corridors: sh
 check(err.count("psc: plugin ") == 2, f"corridors: one plugin a board size ({err.strip()})")
 for r in records:
     check(wins_exactly_at_end(GAMES / "corridors.txt", r["level"], r["solution"] or ""), f"corridors level {r['level']}: replay wins")
+# Under 5 s a level a build would cost more than it saves: one plugin for all.
+code, records, err = solve(GAMES / "corridors.txt", "--all-levels", "--verbose", "--time-limit", "1")
+check(code == 0 and len(records) == 3 and err.count("psc: plugin ") == 1, f"corridors at 1 s: one plugin ({err.strip()})")
 
 # Beam search: a beam wide enough to keep every state is breadth-first (the
 # shortest solution, and an unsolvable level exhausted); one too narrow for
