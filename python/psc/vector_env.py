@@ -420,6 +420,14 @@ class VectorEnv:
         self._batch.reset_entry(self._env_index(i), entry, seed)
         self._ready = True
 
+    def start_cut_off(self, i: int) -> bool:
+        """Whether environment i's last reset started a level whose start
+        turn runs an `again` chain that never settles (psc cuts it off after
+        10,000 turns; the reference engine never finishes that start, so it
+        never takes an input there)."""
+        self._check_open()
+        return self._batch.start_cut_off(self._env_index(i))
+
     def render(self, i: int = 0, scale: int = 1) -> np.ndarray:
         """Environment i's level as RGB, uint8 (height*5*scale, width*5*scale, 3)."""
         self._check_open()

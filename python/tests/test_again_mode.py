@@ -7,7 +7,7 @@ level by hand: level 1 is `#P.o...G#` (player x=1, ball x=3, goal x=7)."""
 
 import numpy as np
 import pytest
-from helpers import GAMES
+from helpers import GAMES, REPO
 
 import psc
 from psc import _abi
@@ -124,3 +124,11 @@ def test_cuda_batches_step_turns_and_messages_as_the_cpu():
             for field in ("won", "againing", "message", "reward"):
                 assert list(got[field]) == list(want[field]), (mode, action, field)
             assert np.array_equal(cuda.observe(), cpu.observe())
+
+
+def test_a_start_whose_chain_never_settles_says_so():
+    # tests/search/games/endless.txt: level 2's shuttle runs from the start and never stops; levels 0 and 1 settle.
+    plugin = psc.compile(REPO / "tests" / "search" / "games" / "endless.txt")
+    with psc.VectorEnv(plugin, num_envs=3, levels=[0, 1, 2]) as env:
+        env.reset(seed=0)
+        assert [env.start_cut_off(i) for i in range(3)] == [False, False, True]
