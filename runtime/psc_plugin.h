@@ -279,8 +279,15 @@ enum {
     PSC_EXPAND_WON = 1u << 0,       /* the input won the level (the child stays on it) */
     PSC_EXPAND_UNCHANGED = 1u << 1, /* the child's key equals its parent's */
     PSC_EXPAND_CUT_OFF = 1u << 2,   /* an endless `again` chain was cut off */
-    PSC_EXPAND_INVALID = 1u << 3    /* not expanded: a bad action, or a key of another entry than the template's */
+    PSC_EXPAND_INVALID = 1u << 3,   /* not expanded: a bad action, or a key of another entry than the template's */
+    PSC_EXPAND_TIMED_OUT = 1u << 4  /* not expanded: psc_set_deadline's deadline had passed (the key is not a child) */
 };
+/* A deadline for psc_expand on a CPU batch, `seconds` from now (0: none):
+ * once it has passed, an expansion stops within 16 `again` turns and
+ * flags every child it has not finished PSC_EXPAND_TIMED_OUT, so that a
+ * search stops near its time limit even where one input runs a long chain.
+ * CUDA batches keep it but are not interrupted.  Since ABI version 4. */
+PSC_API int psc_set_deadline(psc_batch* batch, double seconds);
 /* The children of `count` keys under `action_count` inputs each: child
  * i * action_count + a is key i after input actions[a] (psc_action; undo has
  * no history to go back to), decoded over environment template_env, whose

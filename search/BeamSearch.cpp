@@ -70,7 +70,7 @@ SolveResult beamSearch(SearchRun& run, size_t width) {
         }
         layer.swap(next);
     }
-    if (!dropped) return run.finish(Status::Exhausted);
+    if (!dropped || !run.result.limit.empty()) return run.exhausted();
     run.result.limit = "beam";
     return run.finish(Status::Limit);
 }

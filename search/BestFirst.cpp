@@ -77,7 +77,7 @@ SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight) {
         }
         run.reportProgress(deepest);
     }
-    return run.finish(Status::Exhausted);
+    return run.exhausted();
 }
 
 }  // namespace psc::search

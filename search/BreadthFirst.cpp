@@ -39,7 +39,7 @@ SolveResult breadthFirst(SearchRun& run) {
         }
         layer.swap(next);
     }
-    return run.finish(Status::Exhausted);
+    return run.exhausted();
 }
 
 }  // namespace psc::search

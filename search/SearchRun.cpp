@@ -100,9 +100,16 @@ void expandStored(SearchRun& run, const uint32_t* states, size_t count, ExpandBu
         std::copy(key, key + words, b.keys.begin() + static_cast<std::ptrdiff_t>(i * words));
     }
     const double began = run.elapsed();
+    run.space.setDeadline(run.timeLeft());
     run.space.expand(b.keys.data(), count, b.children.data(), b.flags.data(), b.hashes.data(),
                      withEstimates ? b.estimates.data() : nullptr);
     run.countExpansion(count, began);
+    // Children the deadline left out: the time limit stops the search.
+    const size_t children = count * inputs;
+    if (std::any_of(b.flags.begin(), b.flags.begin() + static_cast<std::ptrdiff_t>(children),
+                    [](uint8_t f) { return (f & PSC_EXPAND_TIMED_OUT) != 0; })) {
+        run.result.limit = "time";
+    }
 }
 
 void ExpandBuffers::fit(size_t count, size_t words, size_t inputs, bool withEstimates) {

@@ -22,9 +22,13 @@ public:
     SolveResult result;
 
     double elapsed() const;
+    double timeLeft() const { return timeLimit_ - elapsed(); }
     // Whether a limit has been reached; sets result.status and result.limit if so.
     bool stopped() { return stopped(store.size()); }
     bool stopped(uint64_t unique);  // for a search whose states are kept elsewhere (on the device)
+    // The search ran out of states to expand: exhausted, unless an expansion
+    // was cut short by the time limit (then the states it missed were never seen).
+    SolveResult& exhausted() { return finish(result.limit.empty() ? Status::Exhausted : Status::Limit); }
     // Records the path to `state`, then `input` if not negative, as the solution.
     SolveResult& solved(uint32_t state, int input = -1) { return solved(store.path(state), input); }
     SolveResult& solved(const std::vector<int>& path, int input, uint64_t unique, size_t bytes);
@@ -73,8 +77,9 @@ struct ExpandBuffers {
 // Children no search goes on from: those equal to their parent, and those
 // reached through an `again` chain that never settles (cut off after 10,000
 // turns): the original engine never finishes that input, and its player
-// takes no input while a chain runs, so no solution passes through them.
-constexpr uint8_t kChildNotSearched = PSC_EXPAND_UNCHANGED | PSC_EXPAND_CUT_OFF;
+// takes no input while a chain runs, so no solution passes through them;
+// and those the expansion deadline left out (the time limit then stops the search).
+constexpr uint8_t kChildNotSearched = PSC_EXPAND_UNCHANGED | PSC_EXPAND_CUT_OFF | PSC_EXPAND_TIMED_OUT;
 
 // Expands stored states states[0..count) into b (their keys gathered first;
 // estimates too when asked) and counts them in run.result.

@@ -158,6 +158,10 @@ void StateSpace::expandResident(const void* deviceKeys, size_t count) {
           "expanding states");
 }
 
+void StateSpace::setDeadline(double seconds) {
+    check(plugin_.setDeadline(batch_, std::clamp(seconds, 1e-6, 1e9)), "setting the expansion deadline");
+}
+
 void StateSpace::setStream(void* stream) { check(plugin_.setStream(batch_, stream), "setting the batch's stream"); }
 
 void StateSpace::synchronize() { check(plugin_.synchronize(batch_), "waiting for the device"); }

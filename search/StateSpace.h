@@ -56,6 +56,9 @@ public:
     // where `estimates` is not null, its distance estimate.
     void expand(const uint64_t* keys, size_t count, uint64_t* children, uint8_t* flags, uint64_t* hashes,
                 int32_t* estimates = nullptr);
+    // The next expansions stop `seconds` from now (psc_set_deadline; CPU
+    // spaces), flagging what they did not finish PSC_EXPAND_TIMED_OUT.
+    void setDeadline(double seconds);
     // Expansion of keys left where the backend computes (device memory on the
     // GPU), with the children kept there: expansion alone, for measuring it.
     void stage(const uint64_t* keys, size_t count);

@@ -392,6 +392,18 @@ inline constexpr int kInputCount = 8;
 // (an animation loop) is cut off here.
 inline constexpr int kMaxAgainTurns = 10000;
 
+#if !defined(__CUDACC__)
+}  // namespace psc_game
+namespace psc_host {
+bool expandDeadlinePassed();  // runtime/plugin_host/ExpandDeadline.h
+}  // namespace psc_host
+namespace psc_game {
+// CPU plugins: psc_expand's deadline (psc_set_deadline) has passed.
+inline bool chainPastDeadline(int turns) { return (turns & 15) == 15 && psc_host::expandDeadlinePassed(); }
+#else
+PSC_DEVICE PSC_INLINE bool chainPastDeadline(int) { return false; }
+#endif
+
 // psc_again_mode: a step settles its `again` chain (the reference's test
 // harness), or runs one turn and leaves the next for a later step (its player,
 // which draws each turn).
@@ -418,7 +430,7 @@ PSC_DEVICE PSC_INPUT bool applyInput(Env& e, UndoStack& u, int input) {
     for (int turns = 0;; ++turns) {
         if (play) playTurn(e, u, dir, false);
         if (!e.againing || (e.stopOnWin && e.wins) || e.againMode == kAgainOneTurn) return true;
-        if (turns >= kMaxAgainTurns) {
+        if (turns >= kMaxAgainTurns || chainPastDeadline(turns)) {
             e.againing = 0;
             return false;
         }

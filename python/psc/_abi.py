@@ -141,6 +141,7 @@ _PROTOTYPES = {
     "psc_reset": (c_int, [c_void_p, c_void_p, c_int32, c_void_p, c_void_p]),
     "psc_reset_entry": (c_int, [c_void_p, c_int32, c_int32, c_char_p]),
     "psc_start_cut_off": (c_int, [c_void_p, c_int32, POINTER(c_uint8)]),
+    "psc_set_deadline": (c_int, [c_void_p, c_double]),
     "psc_step": (c_int, [c_void_p, c_void_p, c_void_p]),
     "psc_observe": (c_int, [c_void_p, c_void_p, c_size_t]),
     "psc_get_buffers": (c_int, [c_void_p, POINTER(Buffers)]),

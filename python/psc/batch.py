@@ -196,6 +196,11 @@ class Batch:
         self.check(status, "expanding states")
         return children, flags, hashes, estimates
 
+    def set_deadline(self, seconds: float) -> None:
+        """psc_expand on this (CPU) batch stops `seconds` from now (0: never),
+        flagging the children it did not finish PSC_EXPAND_TIMED_OUT."""
+        self.check(self.lib.psc_set_deadline(self.handle, float(seconds)), "setting the expansion deadline")
+
     def estimate_distance(self, template_env: int, keys: np.ndarray) -> np.ndarray:
         keys = np.ascontiguousarray(keys, dtype=np.uint8)
         out = np.zeros(keys.shape[0], dtype=np.int32)

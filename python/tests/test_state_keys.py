@@ -12,7 +12,7 @@ import psc
 from psc import _abi
 from psc.batch import Batch
 
-EXPAND_WON, EXPAND_UNCHANGED, EXPAND_INVALID = 1, 2, 8
+EXPAND_WON, EXPAND_UNCHANGED, EXPAND_INVALID, EXPAND_TIMED_OUT = 1, 2, 8, 16
 INPUTS = [0, 1, 2, 3, 4, 5, 6]  # up, left, down, right, action, undo, restart
 
 
@@ -107,3 +107,17 @@ def test_estimate_is_the_distance_of_targets_to_crates():
         expected = sum(min(abs(tx - cx) + abs(ty - cy) for cx, cy in crates) for tx, ty in open_targets)
         key, _ = batch.encode_states([0])
         assert batch.estimate_distance(0, key)[0] == expected > 0
+
+
+def test_a_passed_deadline_leaves_every_child_out():
+    batch = cpu_batch(psc.compile(GAMES / "sokoban.txt"), 1)
+    batch.reset([0], [0])
+    parent, _ = batch.encode_states([0])
+    batch.set_deadline(1e-9)  # passed before the first child
+    _, flags, _, _ = batch.expand(0, parent, INPUTS[:5])
+    assert list(flags) == [EXPAND_TIMED_OUT] * 5
+    batch.set_deadline(0)  # none
+    _, flags, _, _ = batch.expand(0, parent, INPUTS[:5])
+    assert not any(f & EXPAND_TIMED_OUT for f in flags)
+    with pytest.raises(psc.PscError):
+        batch.set_deadline(-1)

@@ -50,6 +50,7 @@ struct psc_batch {
     std::vector<uint8_t> won;
     std::vector<int32_t> episodeSteps;
     unsigned long long rolloutSteps = 0;  // steps run by rollouts so far (the random actions' counter)
+    int64_t expandDeadline = 0;            // psc_set_deadline: steady-clock nanoseconds, or 0
     psc_host::WorkerPool* pool = nullptr;
 
     void* env(int i) { return reinterpret_cast<char*>(envWords.data()) + psc_host::game().envBytes * static_cast<size_t>(i); }

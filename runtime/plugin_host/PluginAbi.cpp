@@ -16,6 +16,7 @@
 
 #include "Batch.h"
 #include "CudaBackend.h"
+#include "ExpandDeadline.h"
 #include "HostErrors.h"
 #include "StateDump.h"
 
@@ -562,16 +563,33 @@ PSC_API int psc_expand(psc_batch* batch, int32_t template_env, const void* keys,
     uint64_t* out = static_cast<uint64_t*>(children);
     const int64_t pairs = static_cast<int64_t>(count) * action_count;
     if (pairs > INT32_MAX) return fail(PSC_ERROR_BAD_ARGUMENT, "count * action_count must be below 2^31");
+    const int64_t deadline = batch->expandDeadline;
     batch->pool->run(static_cast<int>(pairs), [&](int begin, int end) {
+        ExpandDeadlineScope scope(deadline);
         EnvBuffer e(g.envBytes);
         for (int at = begin; at < end; ++at) {
-            std::memcpy(e.data(), base, g.envBytes);
             uint64_t* child = out + static_cast<size_t>(at) * words;
+            if (expandDeadlinePassed()) {
+                flags[at] = PSC_EXPAND_TIMED_OUT;
+                if (hashes) hashes[at] = 0;
+                if (estimates) estimates[at] = 0;
+                continue;
+            }
+            std::memcpy(e.data(), base, g.envBytes);
             flags[at] = g.expandKey(e.data(), parents + static_cast<size_t>(at / action_count) * words, actions[at % action_count], child);
+            // A chain the deadline cut short is no child.
+            if ((flags[at] & PSC_EXPAND_CUT_OFF) && expandDeadlinePassed()) flags[at] = PSC_EXPAND_TIMED_OUT;
             if (hashes) hashes[at] = g.hashKey(child);
             if (estimates) estimates[at] = g.winDistance(e.data());
         }
     });
+    return PSC_OK;
+}
+
+PSC_API int psc_set_deadline(psc_batch* batch, double seconds) {
+    if (int s = checkBatch(batch)) return s;
+    if (!(seconds >= 0) || seconds > 1e9) return fail(PSC_ERROR_BAD_ARGUMENT, "seconds must be between 0 and 1e9");
+    batch->expandDeadline = seconds > 0 ? steadyNanoseconds() + static_cast<int64_t>(seconds * 1e9) : 0;
     return PSC_OK;
 }
 

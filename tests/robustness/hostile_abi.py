@@ -198,6 +198,10 @@ def batch_calls(p, path):
         expect(p, f"start_cut_off of environment {env}", lib.psc_start_cut_off(b, env, ctypes.byref(flag)), BAD_ENV)
     expect(p, "start_cut_off", lib.psc_start_cut_off(b, 0, ctypes.byref(flag)), OK)
     record(flag.value in (0, 1), "start_cut_off writes 0 or 1")
+    expect(p, "set_deadline(NULL batch)", lib.psc_set_deadline(None, 1.0), NULL)
+    for seconds in (-1.0, float("nan"), float("inf"), 1e300):
+        expect(p, f"set_deadline({seconds})", lib.psc_set_deadline(b, seconds), BAD_ARG)
+    expect(p, "set_deadline(0): none", lib.psc_set_deadline(b, 0.0), OK)
 
     expect(p, "step(NULL batch)", lib.psc_step(None, I32x2(0, 0), None), NULL)
     expect(p, "step(NULL actions)", lib.psc_step(b, None, None), NULL)
