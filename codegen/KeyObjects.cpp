@@ -1,5 +1,7 @@
 #include "KeyObjects.h"
 
+#include "RuleParts.h"
+
 namespace psc::codegen {
 
 namespace {
@@ -47,24 +49,15 @@ std::vector<int> keyObjects(const ir::Game& g) {
     g.playerMask.forEach([&](size_t id) {
         if (const auto& live = g.objects[id].liveId) changing.set(static_cast<size_t>(*live));
     });
-    for (const auto* groups : {&g.rules, &g.lateRules}) {
-        for (const auto& group : *groups) {
-            for (const auto& rule : group.rules) {
-                for (const auto& row : rule.rows) {
-                    for (const auto& cell : row) {
-                        if (!cell.replacement) continue;
-                        const ir::Replacement& r = *cell.replacement;
-                        changing |= removedObjects(g, cell);
-                        changing |= r.set;
-                        changing |= r.randomEntity;
-                        for (int L = 0; L < g.layerCount; ++L) {
-                            if (r.movementsSet.field(L) || r.randomDirMask.field(L)) changing |= movedObjects(g, cell, L);
-                        }
-                    }
-                }
-            }
+    forEachReplacingCell(g, [&](const ir::CellPattern& cell) {
+        const ir::Replacement& r = *cell.replacement;
+        changing |= removedObjects(g, cell);
+        changing |= r.set;
+        changing |= r.randomEntity;
+        for (int L = 0; L < g.layerCount; ++L) {
+            if (r.movementsSet.field(L) || r.randomDirMask.field(L)) changing |= movedObjects(g, cell, L);
         }
-    }
+    });
     std::vector<int> ids;
     for (int id = 0; id < g.objectCount; ++id) {
         if (changing.test(static_cast<size_t>(id))) ids.push_back(id);

@@ -46,20 +46,12 @@ uint64_t movingLayerBits(const ir::Game& g) {
         if (layer >= 0 && layer < 64) bits |= 1ull << layer;
     };
     g.playerMask.forEach([&](size_t id) { add(layerOfObject(g, static_cast<int>(id))); });
-    for (const auto* groups : {&g.rules, &g.lateRules}) {
-        for (const auto& group : *groups) {
-            for (const auto& rule : group.rules) {
-                for (const auto& row : rule.rows) {
-                    for (const auto& c : row) {
-                        if (!c.replacement) continue;
-                        for (int L = 0; L < g.layerCount; ++L) {
-                            if (c.replacement->movementsSet.field(L) || c.replacement->randomDirMask.test(static_cast<size_t>(5 * L))) add(L);
-                        }
-                    }
-                }
-            }
+    forEachReplacingCell(g, [&](const ir::CellPattern& cell) {
+        const ir::Replacement& r = *cell.replacement;
+        for (int L = 0; L < g.layerCount; ++L) {
+            if (r.movementsSet.field(L) || r.randomDirMask.test(static_cast<size_t>(5 * L))) add(L);
         }
-    }
+    });
     if (g.layerCount > 64) bits = ~0ull;
     return bits;
 }

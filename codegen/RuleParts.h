@@ -38,6 +38,23 @@ struct MovementUpdate {
 // `entityLayer`: the layer of a `random` object just placed, cleared whole.
 std::vector<MovementUpdate> movementUpdates(const ir::Game& game, const ir::Replacement& r, std::optional<int> entityLayer);
 
+// Calls f(cell) for each cell pattern with a replacement, in every rule, early
+// and late.
+template <typename F>
+void forEachReplacingCell(const ir::Game& game, F f) {
+    for (const auto* groups : {&game.rules, &game.lateRules}) {
+        for (const auto& group : *groups) {
+            for (const auto& rule : group.rules) {
+                for (const auto& row : rule.rows) {
+                    for (const auto& cell : row) {
+                        if (cell.replacement) f(cell);
+                    }
+                }
+            }
+        }
+    }
+}
+
 // The layers whose objects can move, a bit each: the player's (input) and
 // those a replacement gives a movement or a random direction.  The other
 // layers' movement boards stay empty, so movement resolution skips them
