@@ -1,6 +1,7 @@
 #include "GameBuild.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "CppSource.h"
 
@@ -82,8 +83,8 @@ void printResourceReport(const std::string& log) {
 }  // namespace
 
 std::string deviceCodeKey(const std::string& cudaSource, const GameBuildOptions& options) {
-    return sha1Hex(fmt::format("{}\n{}\n{}\n{}", options.cuda.compiler, options.cuda.architecture, options.cuda.fastCompile,
-                               cudaSource));
+    return sha1Hex(fmt::format("{}\n{}\n{}\n{}\n{}", options.cuda.compiler, options.cuda.architecture, options.cuda.fastCompile,
+                               fmt::join(options.cuda.extraOptions, " "), cudaSource));
 }
 
 namespace {

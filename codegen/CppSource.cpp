@@ -52,6 +52,7 @@ struct GpuCode {
     bool inShared = false;     // the memory layout, stepped in shared memory (templates/cuda_kernels.h)
     bool inGroups = false;     // the memory layout, each rule group on a copy in registers (templates/core.h)
     int units = 1;             // CUDA compile units (templates/core.h)
+    int turnUnit = 0;          // the unit compiling the turn (the last, when there are several), or 0
     RuleUnits rules;           // where the rules go (with the groups layout, which groups stay apart)
 };
 
@@ -165,6 +166,7 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
     if (o.target != "cpu") {
         out.line(fmt::format("#define PSC_COMPILE_UNITS {}  // programs NVRTC compiles at once (templates/core.h)",
                              gpu.units));
+        out.line(fmt::format("#define PSC_TURN_UNIT {}  // the unit that compiles the turn (0: unit 0)", gpu.turnUnit));
         out.line(fmt::format("#define PSC_SEARCH_KERNELS {}  // psc_expand on the GPU (--search-kernels)",
                              o.searchKernels ? 1 : 0));
     }
@@ -623,13 +625,20 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
     } else {
         gpu.rules.apart.clear();
         if (options.cudaUnits > 0) {
-            gpu.units = std::min(options.cudaUnits, groups + 1);
+            // --cuda-units counts the turn's unit, which 3 units or more have.
+            gpu.units = std::min(options.cudaUnits >= 3 ? options.cudaUnits - 1 : options.cudaUnits, groups + 1);
         } else {
             const int ruleUnits = static_cast<int>((ruleBytes + kRuleBytesPerUnit - 1) / kRuleBytesPerUnit);
             gpu.units = 1 + std::min({std::max(ruleUnits, 1), groups, kMaxCompileUnits - 1});
         }
     }
     gpu.rules.units = gpu.units;
+    if (gpu.units > 1 && options.cudaUnits != 2) {
+        // The turn's own unit: in unit 0, with the kernels, it made that
+        // unit the slowest to compile (docs/performance.md).
+        gpu.turnUnit = gpu.units;
+        ++gpu.units;
+    }
     return gpu;
 }
 

@@ -541,6 +541,9 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
                     const std::map<int, int>& loops, bool late) {
     const std::string fn = late ? "applyLateRules" : "applyEarlyRules";
     out.line(late ? "// Late rules, in order (with their loops)." : "// The rules, in order (with their loops and rigid bans).");
+    // Compiled in the turn's unit (PSC_DEFINES_TURN, templates/core.h), declared for all.
+    out.line("PSC_DEVICE PSC_TURN void " + fn + "(Env& e, Turn& t);");
+    out.raw("#if PSC_DEFINES_TURN\n");
     out.open("PSC_DEVICE PSC_TURN void " + fn + "(Env& e, Turn& t)");
     out.line("(void)e;");
     out.line("(void)t;");
@@ -579,6 +582,7 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
         out.close();
     }
     out.close();
+    out.raw("#endif\n");
     out.line();
 }
 

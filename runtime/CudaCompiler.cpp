@@ -80,6 +80,18 @@ std::string nvccPath() {
     return "nvcc";
 }
 
+}  // namespace
+
+std::vector<std::string> compilerOptionsFromEnvironment() {
+    std::vector<std::string> options;
+    const char* text = std::getenv("PSC_NVRTC_OPTIONS");
+    std::istringstream words(text ? text : "");
+    for (std::string w; words >> w;) options.push_back(w);
+    return options;
+}
+
+namespace {
+
 bool nvccCompile(const std::string& source, const std::string& name, const CudaCompileOptions& options, CudaCompileResult& r) {
     const int arch = options.architecture;
     const fs::path dir = fs::temp_directory_path() / fmt::format("psc-nvcc-{}", static_cast<long>(getpid()));
@@ -92,6 +104,7 @@ bool nvccCompile(const std::string& source, const std::string& name, const CudaC
     }
     std::vector<std::string> common = {"-std=c++17", "-Xptxas=-v", "-DPSC_CUDA=1"};
     if (options.fastCompile != "0") common.push_back("-Ofc=" + options.fastCompile);
+    common.insert(common.end(), options.extraOptions.begin(), options.extraOptions.end());
     auto command = [&](const std::string& kind, const std::string& arch, const std::string& output) {
         std::vector<std::string> argv = {nvccPath()};
         argv.insert(argv.end(), common.begin(), common.end());

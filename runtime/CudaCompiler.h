@@ -12,6 +12,9 @@
 
 namespace psc {
 
+// $PSC_NVRTC_OPTIONS split at spaces (empty when unset).
+std::vector<std::string> compilerOptionsFromEnvironment();
+
 struct CudaCompileOptions {
     std::string compiler = "nvrtc";  // nvrtc | nvcc
     int architecture = 90;           // sm_90 (H100); PTX for compute_<architecture>
@@ -23,6 +26,10 @@ struct CudaCompileOptions {
     // NVRTC runs in a forked copy of psc stopped at this many seconds (0:
     // none); default: PSC_COMPILE_TIMEOUT, as the system compiler's bound.
     double wallSeconds = -1;
+    // Appended to the compiler's options, and part of the cache key:
+    // $PSC_NVRTC_OPTIONS, split at spaces, for measuring a compiler flag
+    // (`-maxrregcount=64`) without rebuilding psc; --verbose prints them.
+    std::vector<std::string> extraOptions = compilerOptionsFromEnvironment();
 };
 
 struct CudaCompileResult {

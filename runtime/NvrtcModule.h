@@ -13,7 +13,7 @@ namespace psc {
 
 // The module is built with psc and must match it: its entry point reports
 // this version and the sizes of the structures it fills.
-constexpr int kNvrtcModuleVersion = 1;
+constexpr int kNvrtcModuleVersion = 2;
 
 struct NvrtcModule {
     int version;

@@ -36,10 +36,10 @@
 // code then linked (runtime/CudaCompiler.cpp); the system compiler compiles
 // a large game's plugin likewise, as objects of some units each (the bits of
 // PSC_UNIT_MASK) at once, one per core (runtime/PluginBuilder.cpp).  Unit 0
-// defines the kernels, the turn and the plugin's host side, unit k > 0 some
-// of the rules and groups
-// (PSC_COMPILES_UNIT(k)), which are the only functions one unit calls in
-// another (PSC_RULE, PSC_GROUP).  Every other function is inline: a unit compiles only
+// defines the kernels and the plugin's host side, units 1.. some of the rules
+// and groups each (PSC_COMPILES_UNIT(k)), and the last, PSC_TURN_UNIT, the
+// turn (on the CPU the turn is inlined where it is used): these are the only
+// functions one unit calls in another (PSC_RULE, PSC_GROUP, PSC_TURN).  Every other function is inline: a unit compiles only
 // those it uses, and copies in several units link as one.  Compiled as one
 // program (PSC_UNIT not set), the source defines everything.
 #if defined(PSC_UNIT)
@@ -78,6 +78,14 @@
 #endif
 #if !defined(PSC_GROUP_COPIES_STATE)
 #define PSC_GROUP_COPIES_STATE 0
+#endif
+#if !PSC_STATE_IN_REGISTERS && defined(PSC_UNIT) && defined(PSC_TURN_UNIT) && PSC_TURN_UNIT > 0
+// The turn (PSC_TURN) has a unit of its own, which it keeps out of unit 0,
+// whose kernels were the slowest unit to compile: defined there, called
+// from unit 0.
+#undef PSC_TURN
+#define PSC_TURN __noinline__
+#define PSC_DEFINES_TURN (PSC_UNIT == PSC_TURN_UNIT)
 #endif
 #define PSC_INPUT PSC_INLINE
 #define PSC_TABLE __device__ const
@@ -125,6 +133,10 @@
 #define PSC_TABLE static const
 #define PSC_UNROLL
 #define PSC_UNROLL_STATE
+#endif
+
+#if !defined(PSC_DEFINES_TURN)
+#define PSC_DEFINES_TURN 1
 #endif
 
 namespace psc_game {

@@ -346,6 +346,9 @@ PSC_DEVICE PSC_INLINE bool dryRunCommands(Env& e, UndoStack& u, const Snapshot& 
 // dontModify false): the rules, then cancel, restart, undo history, the win
 // check, checkpoint, and the dry run that decides whether `again` follows.
 // The dry run goes round the same loop, so the rules are compiled once.
+// Compiled in the turn's unit (PSC_DEFINES_TURN), declared for all.
+PSC_DEVICE PSC_TURN bool playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin);
+#if PSC_DEFINES_TURN
 PSC_DEVICE PSC_TURN bool playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin) {
     bool dryRun = false;
     bool modified = false;
@@ -380,6 +383,7 @@ PSC_DEVICE PSC_TURN bool playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin)
     e.queue = 0;
     return modified;
 }
+#endif
 
 PSC_DEVICE PSC_COLD void coldTurn(Env& e, UndoStack& u, bool dontDoWin) { playTurn(e, u, -1, dontDoWin); }
 

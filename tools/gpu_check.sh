@@ -27,7 +27,9 @@
 #             per target (default 60), FUZZ_TARGETS (default all three); needs device_bundle.sh's FUZZ=1 bundle
 #   buildtime cold `psc GAME -o GAME.so --target cuda --levels 0` of each benchmark game (fresh cache), end to end,
 #             host side in one compile process (PSC_COMPILE_JOBS=1) and in parallel ones (the default), in turn
-#             (BUILD_JOBS="0": the default only), BUILD_REPEATS times (default 2); table in buildtime.txt
+#             (BUILD_JOBS="0": the default only), BUILD_REPEATS times (default 2); table in buildtime.txt;
+#             BUILD_VARIANTS (lines NAME=PSC) builds each game with every variant in turn, one file each
+#             (buildtime_NAME.txt), so that a slow spell of the host falls on all of them
 #   profile   Nsight Compute on each benchmark game's stepping kernel (PROFILE_BATCH environments, default 131072,
 #             8 steps a launch, level 0): one CSV per game in profile.tar.gz; bench/ncu_table.py makes the table
 #   multigpu  (several GPUs) python/tests/test_multi_gpu.py; then for each of MULTI_GAMES (game:batches, batches
@@ -201,24 +203,31 @@ for stage in "$@"; do
         done
         ;;
     buildtime)
+        variants=${BUILD_VARIANTS:-"=$psc"}
+        rm -f "$out"/buildtime*.txt
         for _ in $(seq "${BUILD_REPEATS:-2}"); do
             for game in bench/games/*.txt; do
                 name=$(basename "$game" .txt)
-                for jobs in ${BUILD_JOBS:-1 0}; do
-                    cache=$(mktemp -d)
-                    start=$(date +%s.%N)
-                    PSC_COMPILE_JOBS=$jobs XDG_CACHE_HOME=$cache "$psc" "$game" -o "$cache/$name.so" --target cuda --levels 0 \
-                        --verbose "${fast[@]}" > "$cache/log" 2>&1
-                    status=$?
-                    end=$(date +%s.%N)
-                    nvrtc=$(sed -n 's/.*CUDA compile (nvrtc[^)]*) \([0-9.]*\) s.*/\1/p' "$cache/log")
-                    host=$(sed -n 's/.*plugin .* (built in \([0-9.]*\) s.*/\1/p' "$cache/log")
-                    printf '%-16s jobs %-2s exit %s  total %6.2f s  nvrtc %6s s  host %6s s\n' "$name" "${jobs/0/all}" "$status" \
-                        "$(awk "BEGIN {print $end - $start}")" "$nvrtc" "$host"
-                    rm -rf "$cache"
-                done
+                while IFS= read -r variant; do
+                    [ -n "$variant" ] || continue
+                    vname=${variant%%=*}
+                    file=$out/buildtime${vname:+_$vname}.txt
+                    for jobs in ${BUILD_JOBS:-1 0}; do
+                        cache=$(mktemp -d)
+                        start=$(date +%s.%N)
+                        PSC_COMPILE_JOBS=$jobs XDG_CACHE_HOME=$cache "${variant#*=}" "$game" -o "$cache/$name.so" --target cuda \
+                            --levels 0 --verbose "${fast[@]}" > "$cache/log" 2>&1
+                        status=$?
+                        end=$(date +%s.%N)
+                        nvrtc=$(sed -n 's/.*CUDA compile (nvrtc[^)]*) \([0-9.]*\) s.*/\1/p' "$cache/log")
+                        host=$(sed -n 's/.*plugin .* (built in \([0-9.]*\) s.*/\1/p' "$cache/log")
+                        printf '%-16s jobs %-2s exit %s  total %6.2f s  nvrtc %6s s  host %6s s\n' "$name" "${jobs/0/all}" \
+                            "$status" "$(awk "BEGIN {print $end - $start}")" "$nvrtc" "$host" | tee -a "$file"
+                        rm -rf "$cache"
+                    done
+                done <<< "$variants"
             done
-        done | tee "$out/buildtime.txt"
+        done
         ;;
     profile)
         # The clocks as they are (METHOD.md); the second launch of the stepping kernel, after a warm-up one.

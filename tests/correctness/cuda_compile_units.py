@@ -1,12 +1,14 @@
 #!/usr/bin/python3
 """CUDA compile units (templates/core.h): a game's CUDA source split over
 several NVRTC programs must define each rule and group function in exactly one
-unit, link into one cubin, and come out the same every time.
+unit, the kernels in unit 0 and the turn in the last unit (PSC_TURN_UNIT)
+alone, link into one cubin, and come out the same every time.
 
     cuda_compile_units.py PSC GAME... [--units N]
 
 Each game is built with the memory layout (the one that is split) and N
-units, or fewer where it has fewer rule and group functions."""
+units (the turn's among them), or fewer where it has fewer rule and group
+functions."""
 import argparse
 import os
 import re
@@ -16,6 +18,16 @@ import tempfile
 
 DEFINITION = re.compile(r"^\s*PSC_DEVICE PSC_(?:RULE|GROUP) [\w ]+? (\w+)\([^;]*\) \{$")
 DECLARATION = re.compile(r"^\s*PSC_DEVICE PSC_(?:RULE|GROUP) [\w ]+? (\w+)\([^{]*\);$")
+
+
+# What the turn's unit compiles (PSC_TURN), out of every other unit.
+TURN_FUNCTIONS = {"playTurn", "applyEarlyRules", "applyLateRules"}
+
+
+def demangled(symbol):
+    """The function's name in a psc_game symbol (_ZN8psc_game8playTurnE... -> playTurn)."""
+    m = re.match(r"_ZN8psc_game(\d+)(\w+)", symbol)
+    return m.group(2)[:int(m.group(1))] if m else symbol
 
 
 def unit_definitions(source):
@@ -48,9 +60,11 @@ def check(psc, game, units, failures):
     names = [n for fs in defined.values() for n in fs]
     declared_units = re.search(r"^#define PSC_COMPILE_UNITS (\d+)", source, re.M)
     units = int(declared_units.group(1)) if declared_units else 1
-    if units < 2 or sorted(defined) != list(range(units)) or defined[0]:
-        failures.append(f"{game}: expected rules in units 1..{units - 1} and the kernels alone in unit 0, "
-                        f"found units {sorted(defined)}")
+    turn_unit = re.search(r"^#define PSC_TURN_UNIT (\d+)", source, re.M)
+    turn_unit = int(turn_unit.group(1)) if turn_unit else 0
+    if units < 3 or turn_unit != units - 1 or sorted(defined) != list(range(units - 1)) or defined[0]:
+        failures.append(f"{game}: expected the kernels alone in unit 0, rules in units 1..{units - 2} and the turn "
+                        f"in unit {units - 1}, found rule units {sorted(defined)} and the turn in unit {turn_unit}")
         return
     if sorted(names) != sorted(set(names)) or sorted(names) != sorted(declared):
         failures.append(f"{game}: rule/group functions not defined exactly once each "
@@ -71,6 +85,9 @@ def check(psc, game, units, failures):
         failures.append(f"{game}: a function is defined in two units' PTX")
     elif sorted(entries[0]) != ["psc_observe_kernel", "psc_reset_kernel", "psc_run_kernel"] or any(entries[1:]):
         failures.append(f"{game}: the kernels must all be in unit 0, found {entries}")
+    elif not TURN_FUNCTIONS <= {demangled(n) for n in visible[turn_unit]}:
+        failures.append(f"{game}: the turn's unit {turn_unit} does not export {sorted(TURN_FUNCTIONS)}: "
+                        f"{sorted(demangled(n) for n in visible[turn_unit])}")
     print(f"{os.path.basename(game)}: {units} units, {len(names)} rule/group functions, "
           f"{len(everywhere)} exported from the PTX units")
 
@@ -79,7 +96,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("psc")
     ap.add_argument("games", nargs="+")
-    ap.add_argument("--units", type=int, default=3)
+    ap.add_argument("--units", type=int, default=4)
     a = ap.parse_args()
     failures = []
     for game in a.games:
