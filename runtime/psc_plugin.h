@@ -282,11 +282,12 @@ enum {
     PSC_EXPAND_INVALID = 1u << 3,   /* not expanded: a bad action, or a key of another entry than the template's */
     PSC_EXPAND_TIMED_OUT = 1u << 4  /* not expanded: psc_set_deadline's deadline had passed (the key is not a child) */
 };
-/* A deadline for psc_expand on a CPU batch, `seconds` from now (0: none):
- * once it has passed, an expansion stops within 16 `again` turns and
- * flags every child it has not finished PSC_EXPAND_TIMED_OUT, so that a
- * search stops near its time limit even where one input runs a long chain.
- * CUDA batches keep it but are not interrupted.  Since ABI version 4. */
+/* A deadline for psc_expand, `seconds` from now (0: none): once it has
+ * passed, an expansion stops within 16 `again` turns and flags every child
+ * it has not finished PSC_EXPAND_TIMED_OUT, so that a search stops near its
+ * time limit even where one input runs a long chain.  On a CUDA batch the
+ * deadline is put on the GPU's clock at the batch's first expansion with
+ * one.  Since ABI version 4 (CUDA batches since psc 0.1.0 of 2026-11-27). */
 PSC_API int psc_set_deadline(psc_batch* batch, double seconds);
 /* The children of `count` keys under `action_count` inputs each: child
  * i * action_count + a is key i after input actions[a] (psc_action; undo has

@@ -27,10 +27,15 @@ SolveResult deviceBreadthFirst(SearchRun& run) {
             const size_t count = set.room(run.batchWithinTime(std::min(space.maxBatch(), layerEnd - begin)));
             if (count == 0) return memoryFull();
             const double began = run.elapsed();
+            space.setDeadline(run.timeLeft());
             const DeviceStateSet::Outcome o = set.expand(static_cast<uint32_t>(begin), count);
             run.countExpansion(count, began);
             if (o.won) return run.solved(set.path(o.parent), o.input, set.size(), set.bytes());
             if (o.full) return memoryFull();
+            if (o.timedOut) {
+                run.result.limit = "time";
+                return run.finish(Status::Limit, set.size(), set.bytes());
+            }
             begin += count;
             run.reportProgress(static_cast<int>(depth), set.size(), set.bytes());
         }

@@ -35,6 +35,7 @@ struct Counters {
     uint32_t base;
     uint32_t invalid;
     uint32_t overflow;
+    uint32_t timedOut;
 };
 
 constexpr unsigned kCountBlock = 1024;  // PSC_BLOCK
@@ -119,7 +120,7 @@ void DeviceStateSet::acquire(size_t memoryLimit) {
     check(d_.cuMemAlloc(&slotOf_, children * 4), "allocating device memory for search");
     check(d_.cuMemAlloc(&blockCounts_, std::max<size_t>(blocks, 1) * 4), "allocating device memory for search");
     check(d_.cuMemAlloc(&counters_, sizeof(Counters)), "allocating device memory for search");
-    const Counters start{kNoWin, 0, 0, 0, 0};
+    const Counters start{kNoWin, 0, 0, 0, 0, 0};
     check(d_.cuMemcpyHtoD(counters_, &start, sizeof start), "clearing search's counters");
 
     size_t free = 0, total = 0;
@@ -290,6 +291,7 @@ DeviceStateSet::Outcome DeviceStateSet::expand(uint32_t first, size_t count) {
     size_ = std::min<size_t>(c.size, capacity_);
     Outcome o;
     o.full = c.overflow != 0;
+    o.timedOut = c.timedOut != 0;
     if (c.won != kNoWin) {
         o.won = true;
         o.parent = static_cast<uint32_t>(c.won >> 8);

@@ -44,6 +44,7 @@ public:
         uint32_t parent = 0;  // this state's
         int input = 0;        // input (its index in space.inputs())
         bool full = false;    // new states were left out: the store is full (stop at the memory limit)
+        bool timedOut = false;  // the expansion's deadline left children out (stop at the time limit)
     };
     // Expands states [first, first + count) (count <= room()) and stores
     // their new children, as many as fit; waits for the device.

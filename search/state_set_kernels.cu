@@ -22,6 +22,7 @@ typedef unsigned long long u64;
 #define PSC_UNCHANGED 2u
 #define PSC_CUT_OFF 4u
 #define PSC_INVALID 8u
+#define PSC_TIMED_OUT 16u
 
 struct StateSet {
     u64* keys;               // capacity * words
@@ -42,6 +43,7 @@ struct Counters {
     u32 base;       // the store's size before the last batch's states
     u32 invalid;    // a child the plugin refused to expand
     u32 overflow;   // new states the store had no room for
+    u32 timedOut;   // a child the expansion's deadline left out
 };
 
 // Multiplicative hashing, so that the slot depends on every bit of the key's hash.
@@ -71,6 +73,10 @@ extern "C" __global__ void psc_set_insert(StateSet s, const u64* children, const
     const u32 f = flags[child];
     if (f & PSC_INVALID) {
         atomicOr(&counters->invalid, 1u);
+        return;
+    }
+    if (f & PSC_TIMED_OUT) {
+        atomicOr(&counters->timedOut, 1u);
         return;
     }
     if (f & PSC_WON) {

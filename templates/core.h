@@ -537,6 +537,9 @@ struct UndoStack {
     int head;  // index of the oldest entry
     TurnScratch* scratch;  // kMaxTurnNesting of them, or null (a turn's scratch on its stack)
     int scratchDepth;      // turns running
+    // psc_expand on the GPU: when an again chain stops, on the GPU's clock
+    // (gpuNanoseconds, templates/engine.h); 0: never.
+    unsigned long long deadline;
 };
 
 // Level size, constant when every level built has the same.

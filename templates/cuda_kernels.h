@@ -46,6 +46,7 @@ __device__ PSC_INLINE UndoStack undoOf(const DeviceBatch& b, int i) {
     u.head = b.undoDepth ? b.undoHead[i] : 0;
     u.scratch = b.turnScratch ? b.turnScratch + static_cast<unsigned long long>(i) * kMaxTurnNesting : nullptr;
     u.scratchDepth = 0;
+    u.deadline = 0;
     return u;
 }
 
@@ -155,9 +156,12 @@ extern "C" __global__ void psc_observe_kernel(psc_game::DeviceBatch b) {
 #if PSC_SEARCH_KERNELS
 // Child k = i * actionCount + a of psc_expand: key i after input actions[a],
 // decoded over a copy of the template environment (templates/state_key.h).
+// With a deadline (gpuNanoseconds; 0: none), a child not started by then,
+// or whose again chain it cut short, is flagged kExpandTimedOut instead.
 extern "C" __global__ void psc_expand_kernel(psc_game::DeviceBatch b, int templateEnv, const unsigned long long* keys,
                                              int count, const int* actions, int actionCount, unsigned long long* children,
-                                             unsigned char* flags, unsigned long long* hashes, int* estimates) {
+                                             unsigned char* flags, unsigned long long* hashes, int* estimates,
+                                             unsigned long long deadline) {
     using namespace psc_game;
     const long long k = static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x;
     if (k >= static_cast<long long>(count) * actionCount) return;
@@ -172,9 +176,15 @@ extern "C" __global__ void psc_expand_kernel(psc_game::DeviceBatch b, int templa
             flags[k] = kExpandInvalid;
             return;
         }
-        flags[k] = expandKey(e, parent, action, child);
-        if (hashes) hashes[k] = hashKey(child);
-        if (estimates) estimates[k] = winDistance(e);
+        const bool late = deadline && gpuNanoseconds() >= deadline;
+        u8 f = late ? kExpandTimedOut : expandKey(e, parent, action, child, deadline);
+        if ((f & kExpandCutOff) && deadline && gpuNanoseconds() >= deadline) f = kExpandTimedOut;
+        flags[k] = f;
+        if (hashes) hashes[k] = f == kExpandTimedOut ? 0 : hashKey(child);
+        if (estimates) estimates[k] = f == kExpandTimedOut ? 0 : winDistance(e);
     }
 }
+
+// The GPU's clock, read once a batch to put psc_set_deadline's deadline on it.
+extern "C" __global__ void psc_clock_kernel(unsigned long long* now) { *now = psc_game::gpuNanoseconds(); }
 #endif

@@ -402,10 +402,22 @@ namespace psc_host {
 bool expandDeadlinePassed();  // runtime/plugin_host/ExpandDeadline.h
 }  // namespace psc_host
 namespace psc_game {
-// CPU plugins: psc_expand's deadline (psc_set_deadline) has passed.
-inline bool chainPastDeadline(int turns) { return (turns & 15) == 15 && psc_host::expandDeadlinePassed(); }
+// psc_expand's deadline (psc_set_deadline) has passed, checked every 16
+// again turns: on the CPU the thread's (runtime/plugin_host/ExpandDeadline.h).
+inline bool chainPastDeadline(const UndoStack&, int turns) {
+    return (turns & 15) == 15 && psc_host::expandDeadlinePassed();
+}
 #else
-PSC_DEVICE PSC_INLINE bool chainPastDeadline(int) { return false; }
+// The GPU's global nanosecond clock, which psc_expand's deadline is on.
+PSC_DEVICE PSC_INLINE unsigned long long gpuNanoseconds() {
+    unsigned long long t;
+    asm volatile("mov.u64 %0, %%globaltimer;" : "=l"(t));
+    return t;
+}
+// On the GPU the expansion's own (UndoStack::deadline).
+PSC_DEVICE PSC_INLINE bool chainPastDeadline(const UndoStack& u, int turns) {
+    return u.deadline && (turns & 15) == 15 && gpuNanoseconds() >= u.deadline;
+}
 #endif
 
 // psc_again_mode: a step settles its `again` chain (the reference's test
@@ -434,7 +446,7 @@ PSC_DEVICE PSC_INPUT bool applyInput(Env& e, UndoStack& u, int input) {
     for (int turns = 0;; ++turns) {
         if (play) playTurn(e, u, dir, false);
         if (!e.againing || (e.stopOnWin && e.wins) || e.againMode == kAgainOneTurn) return true;
-        if (turns >= kMaxAgainTurns || chainPastDeadline(turns)) {
+        if (turns >= kMaxAgainTurns || chainPastDeadline(u, turns)) {
             e.againing = 0;
             return false;
         }

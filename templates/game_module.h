@@ -13,7 +13,8 @@ static_assert(sizeof(UndoStack) == sizeof(psc_host::UndoRing) && offsetof(UndoSt
                   offsetof(UndoStack, count) == offsetof(psc_host::UndoRing, count) &&
                   offsetof(UndoStack, head) == offsetof(psc_host::UndoRing, head) &&
                   offsetof(UndoStack, scratch) == offsetof(psc_host::UndoRing, turnScratch) &&
-                  offsetof(UndoStack, scratchDepth) == offsetof(psc_host::UndoRing, turnScratchDepth),
+                  offsetof(UndoStack, scratchDepth) == offsetof(psc_host::UndoRing, turnScratchDepth) &&
+                  offsetof(UndoStack, deadline) == offsetof(psc_host::UndoRing, deadline),
               "the host's undo ring is the engine's UndoStack");
 static_assert(alignof(Env) <= 8 && alignof(Snapshot) <= 8, "the host keeps environments 8-byte aligned");
 static_assert(sizeof(DeviceBatch) == sizeof(psc_host::DeviceBuffers) &&

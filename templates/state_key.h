@@ -132,7 +132,7 @@ PSC_DEVICE PSC_INLINE u64 hashKey(const u64* key) {
 }
 
 // What one expansion reports besides the child's key.
-enum ExpandFlag : u8 { kExpandWon = 1, kExpandUnchanged = 2, kExpandCutOff = 4, kExpandInvalid = 8 };
+enum ExpandFlag : u8 { kExpandWon = 1, kExpandUnchanged = 2, kExpandCutOff = 4, kExpandInvalid = 8, kExpandTimedOut = 16 };
 
 // The GPU expands a key over a copy of the template on the thread's stack,
 // which the driver reserves for every resident thread: environments stepped
@@ -141,12 +141,12 @@ constexpr bool kExpandTooLarge = !PSC_STATE_IN_REGISTERS && sizeof(Env) > 128 * 
 
 // The child of `parent` under `input`, decoded over the template `e` (which
 // this overwrites); the level stays as it is when the input wins it.
-PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child) {
+PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child, unsigned long long deadline = 0) {
     decodeKey(e, parent);
     e.stopOnWin = 1;
     e.needsReset = 0;
     e.againMode = kAgainSettle;  // a child is where the input's whole again chain leads
-    UndoStack none = {nullptr, 0, 0, 0, nullptr, 0};
+    UndoStack none = {nullptr, 0, 0, 0, nullptr, 0, deadline};
     const bool settled = applyInput(e, none, input);
     encodeKey(e, child);
     bool same = true;

@@ -11,6 +11,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "ExpandDeadline.h"
 #include "HostErrors.h"
 
 namespace psc_host {
@@ -172,6 +173,7 @@ public:
     CUfunction run = nullptr;
     CUfunction observe = nullptr;
     CUfunction expand = nullptr;
+    CUfunction clock = nullptr;
     CUstream stream = nullptr;
     DeviceBuffers dev{};
     std::vector<CUdeviceptr> allocations;
@@ -180,6 +182,8 @@ public:
     int againMode = 0;
     int maxEpisodeSteps = 0;
     unsigned long long rolloutSteps = 0;  // steps run by rollouts so far (the random actions' counter)
+    bool clockKnown = false;               // gpuClockOffset below was measured
+    int64_t gpuClockOffset = 0;            // the GPU's clock (globaltimer) minus the host's steady clock, ns
     static constexpr unsigned kBlock = 128;  // threads a block of every kernel but a shared-memory stepping one
     unsigned runBlock = kBlock;              // the stepping kernel's threads a block
     unsigned runShared = 0;                  // and dynamic shared memory a block (PSC_STATE_IN_SHARED)
@@ -234,6 +238,25 @@ public:
                      "reserving shared memory for the environments");
     }
     int sync() { return check(driver().cuStreamSynchronize(stream), "waiting for the device"); }
+    // gpuClockOffset, once: the GPU's clock read by a kernel, against the
+    // middle of the host's steady clock before the launch and after the read.
+    int measureGpuClock() {
+        if (clockKnown) return PSC_OK;
+        Driver& d = driver();
+        unsigned long long* now = nullptr;
+        if (int s = allocate(&now, 1)) return s;
+        if (int s = sync()) return s;
+        const int64_t before = psc_host::steadyNanoseconds();
+        void* args[] = {&now};
+        if (int s = launch(clock, 1, args, 1)) return s;
+        unsigned long long gpu = 0;
+        if (int s = sync()) return s;
+        if (int s = check(d.cuMemcpyDtoH(&gpu, reinterpret_cast<CUdeviceptr>(now), sizeof gpu), "reading the GPU's clock")) return s;
+        const int64_t after = psc_host::steadyNanoseconds();
+        gpuClockOffset = static_cast<int64_t>(gpu) - (before + (after - before) / 2);
+        clockKnown = true;
+        return PSC_OK;
+    }
 };
 
 
@@ -314,7 +337,8 @@ int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
         CUfunction* f;
         const char* name;
     } kernels[] = {{&cb->reset, "psc_reset_kernel"}, {&cb->run, "psc_run_kernel"}, {&cb->observe, "psc_observe_kernel"},
-                   {&cb->expand, code.searchKernels ? "psc_expand_kernel" : nullptr}};
+                   {&cb->expand, code.searchKernels ? "psc_expand_kernel" : nullptr},
+                   {&cb->clock, code.searchKernels ? "psc_clock_kernel" : nullptr}};
     for (const Named& k : kernels) {
         if (!k.name) continue;
         if (int s = check(d.cuModuleGetFunction(k.f, cb->module, k.name), k.name)) return cleanup(s);
@@ -610,7 +634,13 @@ int cudaExpand(psc_batch* b, int32_t templateEnv, const void* keys, int32_t coun
     int n = static_cast<int>(pairs);
     CudaBatch* cb = of(b);
     ContextScope scope(cb->context);
-    void* args[] = {&cb->dev, &templateEnv, &keys, &count, &actions, &actionCount, &children, &flags, &hashes, &estimates};
+    unsigned long long deadline = 0;
+    if (b->expandDeadline) {
+        if (int s = cb->measureGpuClock()) return s;
+        deadline = static_cast<unsigned long long>(std::max<int64_t>(1, b->expandDeadline + cb->gpuClockOffset));
+    }
+    void* args[] = {&cb->dev, &templateEnv, &keys, &count, &actions, &actionCount, &children, &flags, &hashes, &estimates,
+                    &deadline};
     return cb->launch(cb->expand, n, args);
 }
 

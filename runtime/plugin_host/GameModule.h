@@ -29,6 +29,7 @@ struct UndoRing {
     int head;  // index of the oldest entry
     void* turnScratch;
     int turnScratchDepth;
+    unsigned long long deadline;  // the GPU's expansion deadline; 0 on the CPU, which keeps its own
 };
 
 // The fields of an environment the host reads.

@@ -129,7 +129,7 @@ int createCpuBatch(const psc_batch_options* options, psc_batch** batch) {
         for (int i = 0; i < b->numEnvs; ++i) {
             b->undo[static_cast<size_t>(i)] =
                 UndoRing{b->undoDepth ? undoBytes + static_cast<size_t>(i) * static_cast<size_t>(b->undoDepth) * g.snapshotBytes : nullptr,
-                         b->undoDepth, 0, 0, nullptr, 0};
+                         b->undoDepth, 0, 0, nullptr, 0, 0};
             g.initEnv(b->env(i), entry, b->autoReset, options->again_mode, b->maxEpisodeSteps);
             setSeed(b->env(i), utf16("0"));
             g.startEpisode(b->env(i), &b->undo[static_cast<size_t>(i)]);
