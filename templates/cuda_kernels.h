@@ -93,7 +93,18 @@ extern "C" __global__ void psc_reset_kernel(psc_game::DeviceBatch b, const int* 
 // Step k's results go to rewards/terminated/truncated/won[k * numEnvs + i]
 // where those are not NULL; totals go to b.stats; observations of the final
 // state to b.observations when `observe` is set.
-extern "C" __global__ void psc_run_kernel(psc_game::DeviceBatch b, int steps, const int* actions,
+//
+// With the state in registers, three 128-thread blocks an SM (at most 168
+// registers a thread): ptxas would take up to 255 and leave two, and the
+// extra warps hide more latency than the spills cost (on one H100: match3
+// +14 %, traveling +23 %, blocks +24 %, zenpuzzle +13 %, constellationz -6 %;
+// docs/performance.md).  The launch's block is CudaBatch::kBlock, 128.
+#if PSC_STATE_IN_REGISTERS
+#define PSC_RUN_KERNEL_BOUNDS __launch_bounds__(128, 3)
+#else
+#define PSC_RUN_KERNEL_BOUNDS
+#endif
+extern "C" __global__ void PSC_RUN_KERNEL_BOUNDS psc_run_kernel(psc_game::DeviceBatch b, int steps, const int* actions,
                                           unsigned long long seed, int actionCount, unsigned long long firstStep,
                                           float* rewards, unsigned char* terminated, unsigned char* truncated,
                                           unsigned char* won, int observe) {
