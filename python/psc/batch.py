@@ -197,8 +197,9 @@ class Batch:
         return children, flags, hashes, estimates
 
     def set_deadline(self, seconds: float) -> None:
-        """psc_expand on this (CPU) batch stops `seconds` from now (0: never),
-        flagging the children it did not finish PSC_EXPAND_TIMED_OUT."""
+        """psc_expand on this batch stops `seconds` from now (0: never),
+        flagging the children it did not finish PSC_EXPAND_TIMED_OUT (on a
+        CUDA batch, the GPU's expansion too, which `expand` here does not run)."""
         self.check(self.lib.psc_set_deadline(self.handle, float(seconds)), "setting the expansion deadline")
 
     def estimate_distance(self, template_env: int, keys: np.ndarray) -> np.ndarray:
