@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <map>
 
 #include "RuleCode.h"
@@ -44,9 +45,6 @@ public:
                                    messageIndex(rule, messages_), rigidGroupClaim(g_, rule),
                                    static_cast<int>(rule.rows.size())};
         for (const auto& row : rule.rows) record.push_back(addRow(rule, row));
-        const std::vector<int> required = requiredBoards(rule);
-        record.push_back(static_cast<int>(required.size()));
-        record.insert(record.end(), required.begin(), required.end());
         maxRows_ = std::max(maxRows_, static_cast<int>(rule.rows.size()));
         int saved = 0;
         for (const auto& row : rule.rows) {
@@ -67,25 +65,6 @@ public:
     int maxSavedCells() const { return std::max(1, maxSaved_); }
 
 private:
-    // The boards a match needs somewhere, as presence bits (object id, or
-    // kObjects + movement bit): those of the rule's cells' single-board terms.
-    // While one of them is empty the interpreter skips the rule without
-    // building its rows' boards, which is most of what a table step costs.
-    std::vector<int> requiredBoards(const Rule& rule) const {
-        const int objects = std::max(1, g_.objectCount);
-        std::vector<int> required;
-        for (const auto& row : rule.rows) {
-            for (const auto& c : row) {
-                if (c.ellipsis) continue;
-                c.present.forEach([&](size_t id) { required.push_back(static_cast<int>(id)); });
-                c.movementsPresent.forEach([&](size_t bit) { required.push_back(objects + static_cast<int>(bit)); });
-            }
-        }
-        std::sort(required.begin(), required.end());
-        required.erase(std::unique(required.begin(), required.end()), required.end());
-        return required;
-    }
-
     int size() const { return static_cast<int>(data_.size()); }
 
     // The offset of a record with these numbers, written now unless it was before.
@@ -177,6 +156,31 @@ std::string numbers(std::vector<int>::const_iterator begin, std::vector<int>::co
     return out;
 }
 
+// The boards a match needs somewhere, as templates/rule_table.h's presence
+// bits (object id, or kObjects + movement bit), kTablePresenceWords words:
+// those of the rule's cells' single-board terms.  While one of them is empty
+// the interpreter skips the rule without building its rows' boards, which is
+// most of what a table step costs.
+std::vector<uint64_t> neededPresence(const Game& g, const Rule& rule, int words) {
+    const int objects = std::max(1, g.objectCount);
+    std::vector<uint64_t> mask(static_cast<size_t>(words), 0);
+    auto need = [&](int bit) { mask[static_cast<size_t>(bit / 64)] |= uint64_t{1} << (bit % 64); };
+    for (const auto& row : rule.rows) {
+        for (const auto& c : row) {
+            if (c.ellipsis) continue;
+            c.present.forEach([&](size_t id) { need(static_cast<int>(id)); });
+            c.movementsPresent.forEach([&](size_t bit) { need(objects + static_cast<int>(bit)); });
+        }
+    }
+    return mask;
+}
+
+std::string hexWords(const std::vector<uint64_t>& words) {
+    std::string out;
+    for (size_t i = 0; i < words.size(); ++i) out += fmt::format("{}0x{:x}ull", i ? ", " : "", words[i]);
+    return out;
+}
+
 }  // namespace
 
 void emitRuleTableData(CodeWriter& out, const Game& game) {
@@ -225,6 +229,33 @@ void emitRuleTableData(CodeWriter& out, const Game& game) {
     }
     if (ruleOffsets.empty()) out.line("    0");
     out.line("};");
+    // Presence masks: each rule's needed boards (kRuleIndex order), and the
+    // boards every rule of a group needs (the group is skipped while one is empty).
+    const int presenceWords = (std::max(1, game.objectCount) + 5 * std::max(1, game.layerCount) + 63) / 64;
+    out.line(fmt::format("constexpr int kTablePresenceWords = {};", presenceWords));
+    out.line("// The presence bits of the boards each rule's every match needs, kTablePresenceWords a rule (kRuleIndex order).");
+    out.line("PSC_TABLE u64 kRuleNeeds[] = {");
+    std::vector<std::vector<uint64_t>> groupNeeds[2];
+    for (const bool late : {false, true}) {
+        for (const auto& group : late ? game.lateRules : game.rules) {
+            std::vector<uint64_t> common(static_cast<size_t>(presenceWords), group.rules.empty() ? 0 : ~uint64_t{0});
+            for (const auto& rule : group.rules) {
+                const std::vector<uint64_t> needs = neededPresence(game, rule, presenceWords);
+                for (size_t w = 0; w < needs.size(); ++w) common[w] &= needs[w];
+                out.line("    " + hexWords(needs) + ",");
+            }
+            groupNeeds[late ? 1 : 0].push_back(common);
+        }
+    }
+    if (ruleOffsets.empty()) out.line("    0");
+    out.line("};");
+    for (const bool late : {false, true}) {
+        out.line(fmt::format("// The presence bits every rule of a{} group needs, kTablePresenceWords a group.", late ? " late" : "n early"));
+        out.line(fmt::format("PSC_TABLE u64 {}[] = {{", late ? "kLateGroupNeeds" : "kEarlyGroupNeeds"));
+        for (const auto& needs : groupNeeds[late ? 1 : 0]) out.line("    " + hexWords(needs) + ",");
+        if (groupNeeds[late ? 1 : 0].empty()) out.line("    0");
+        out.line("};");
+    }
     int first = 0;
     for (const bool late : {false, true}) {
         const auto& groups = late ? game.lateRules : game.rules;
@@ -253,8 +284,8 @@ void emitRuleTableData(CodeWriter& out, const Game& game) {
 }
 
 void emitRuleTableGroups(CodeWriter& out) {
-    out.line("PSC_DEVICE PSC_TURN void applyEarlyRules(Env& e, Turn& t) { tableApplyGroups(e, t, kEarlyGroups, kEarlyGroupCount); }");
-    out.line("PSC_DEVICE PSC_TURN void applyLateRules(Env& e, Turn& t) { tableApplyGroups(e, t, kLateGroups, kLateGroupCount); }");
+    out.line("PSC_DEVICE PSC_TURN void applyEarlyRules(Env& e, Turn& t) { tableApplyGroups(e, t, kEarlyGroups, kEarlyGroupNeeds, kEarlyGroupCount); }");
+    out.line("PSC_DEVICE PSC_TURN void applyLateRules(Env& e, Turn& t) { tableApplyGroups(e, t, kLateGroups, kLateGroupNeeds, kLateGroupCount); }");
     out.line();
 }
 

@@ -6,15 +6,14 @@
 // boards, the same scan order, the same re-checks, changes and random draws,
 // so both forms step bit for bit alike.  Slower per rule, but its code does
 // not grow with the game.  Included after the game's tables (kRuleData,
-// kLayerObjects, kEarlyGroups, kLateGroups); the turn's applyEarlyRules and
-// applyLateRules call tableApplyGroups.
+// kLayerObjects, kRuleIndex, kRuleNeeds, kEarlyGroups, kLateGroups and their
+// needs); the turn's applyEarlyRules and applyLateRules call tableApplyGroups.
 //
 // Records (offsets are indices into kRuleData):
 //   rule: direction (0 down, 1 up, 2 right, 3 left), flags (1 replacements,
 //         2 ellipses), commands, message (-1: none), rigid claim (0: none),
-//         row count, then each row's offset, then the count and the
-//         presence bits of the boards every match needs (object id, or
-//         kObjects + movement bit)
+//         row count, then each row's offset (the presence bits of the
+//         boards its every match needs are kRuleNeeds's, by kRuleIndex)
 //   row:  cell count, first and second ellipsis (-1: none), each cell's
 //         offset (-1: an ellipsis)
 //   cell: replacement offset (-1: none), term count, terms (each a count of
@@ -33,11 +32,6 @@ constexpr int kTableRuleFlagReplacements = 1;
 constexpr int kTableRuleFlagEllipses = 2;
 constexpr int kTableRuleRowCount = 5;  // a rule record's fields: its row count, then its rows' offsets
 constexpr int kTableRuleRows = 6;
-
-// The count and the presence bits of the boards a rule's every match needs.
-PSC_DEVICE PSC_INLINE const int* tableRequiredBoards(int rule) {
-    return kRuleData + rule + kTableRuleRows + kRuleData[rule + kTableRuleRowCount];
-}
 
 // Where a row's cells before its first ellipsis end.
 PSC_DEVICE PSC_INLINE int tableRowPrefixEnd(const int* row) { return row[1] < 0 ? row[0] : row[1]; }
@@ -355,14 +349,16 @@ struct TableMatches {
 };
 
 // Which boards hold anything (bit b: e.obj[b]; bit kObjects + m: e.mov[m]).
-// A rule needing an empty board matches nowhere and is skipped; the bits are
-// taken again whenever a rule changes the board.
+// A rule needing an empty board matches nowhere and is skipped, and a group
+// whose every rule needs it too; the bits are taken again whenever a rule
+// changes the board.
 constexpr int kTablePresenceBits = kObjects + 5 * kLayers;
+static_assert((kTablePresenceBits + 63) / 64 == kTablePresenceWords, "the rule table's needs are presence words");
 struct TablePresence {
-    u64 w[(kTablePresenceBits + 63) / 64];
+    u64 w[kTablePresenceWords];
 
     PSC_DEVICE PSC_COLD void take(const Env& e) {
-        for (int i = 0; i < (kTablePresenceBits + 63) / 64; ++i) w[i] = 0;
+        for (int i = 0; i < kTablePresenceWords; ++i) w[i] = 0;
         for (int b = 0; b < kObjects; ++b) {
             if (e.obj[b].any()) w[b >> 6] |= u64{1} << (b & 63);
         }
@@ -372,13 +368,11 @@ struct TablePresence {
         }
     }
 
-    PSC_DEVICE PSC_INLINE bool allowsRule(int rule) const {
-        const int* q = tableRequiredBoards(rule);
-        const int n = *q++;
-        for (int i = 0; i < n; ++i) {
-            if (!((w[q[i] >> 6] >> (q[i] & 63)) & 1u)) return false;
-        }
-        return true;
+    // Whether every board of `needs` (kTablePresenceWords words) holds something.
+    PSC_DEVICE PSC_INLINE bool holdsAll(const u64* needs) const {
+        u64 missing = 0;
+        for (int i = 0; i < kTablePresenceWords; ++i) missing |= needs[i] & ~w[i];
+        return missing == 0;
     }
 };
 
@@ -403,10 +397,11 @@ PSC_DEVICE PSC_COLD bool tableApplyRule(Env& e, Turn& t, int rule) {
     return changed;
 }
 
-// The number of a rule's matches (a random group's candidates).
-PSC_DEVICE PSC_COLD long long tableCountMatches(const Env& e, const TablePresence& present, int rule) {
+// The number of matches of rule kRuleIndex[i] (a random group's candidates).
+PSC_DEVICE PSC_COLD long long tableCountMatches(const Env& e, const TablePresence& present, int i) {
+    const int rule = kRuleIndex[i];
     TableMatches m;
-    if (!present.allowsRule(rule) || !m.prepare(e, rule)) return 0;
+    if (!present.holdsAll(kRuleNeeds + i * kTablePresenceWords) || !m.prepare(e, rule)) return 0;
     long long n = 0;
     if (!(kRuleData[rule + 1] & kTableRuleFlagEllipses)) {
         n = 1;
@@ -442,7 +437,7 @@ PSC_DEVICE PSC_COLD bool tableApplyGroup(Env& e, Turn& t, TablePresence& present
         for (int pass = 0; pass < 200; ++pass) {
             bool any = false;
             for (int i = first; i < first + count; ++i) {
-                if (!present.allowsRule(kRuleIndex[i]) || !tableApplyRule(e, t, kRuleIndex[i])) continue;
+                if (!present.holdsAll(kRuleNeeds + i * kTablePresenceWords) || !tableApplyRule(e, t, kRuleIndex[i])) continue;
                 any = true;
                 present.take(e);
             }
@@ -453,11 +448,11 @@ PSC_DEVICE PSC_COLD bool tableApplyGroup(Env& e, Turn& t, TablePresence& present
     }
 #if PSC_USES_RANDOM
     long long total = 0;
-    for (int i = first; i < first + count; ++i) total += tableCountMatches(e, present, kRuleIndex[i]);
+    for (int i = first; i < first + count; ++i) total += tableCountMatches(e, present, i);
     if (total == 0) return false;
     long long pick = static_cast<long long>(e.rng.uniform() * static_cast<double>(total));
     for (int i = first; i < first + count; ++i) {
-        const long long matches = tableCountMatches(e, present, kRuleIndex[i]);
+        const long long matches = tableCountMatches(e, present, i);
         if (pick < matches) {
             const bool changed = tableApplyNth(e, t, kRuleIndex[i], pick);
             if (changed) present.take(e);
@@ -474,7 +469,9 @@ PSC_DEVICE PSC_COLD bool tableApplyGroup(Env& e, Turn& t, TablePresence& present
 // in kRuleIndex, its rule count, whether it is random, its rigid group (-1:
 // none; a banned one is skipped) and the group its loop goes back to from it
 // (-1: none), taken when a group since the last jump changed something.
-PSC_DEVICE PSC_COLD void tableApplyGroups(Env& e, Turn& t, const int* groups, int count) {
+// A group is skipped while a board that all its rules need is empty
+// (groupNeeds, kTablePresenceWords words a group): none of them could match.
+PSC_DEVICE PSC_COLD void tableApplyGroups(Env& e, Turn& t, const int* groups, const u64* groupNeeds, int count) {
     int i = 0;
     bool propagated = false;
     int jumps = 0;
@@ -483,7 +480,8 @@ PSC_DEVICE PSC_COLD void tableApplyGroups(Env& e, Turn& t, const int* groups, in
     while (i < count) {
         const int* g = groups + 5 * i;
         const bool banned = g[3] >= 0 && ((t.banned >> g[3]) & 1u) != 0;
-        const bool ran = !banned && tableApplyGroup(e, t, present, g[0], g[1], g[2] != 0);
+        const bool ran = !banned && present.holdsAll(groupNeeds + kTablePresenceWords * i) &&
+                         tableApplyGroup(e, t, present, g[0], g[1], g[2] != 0);
         propagated = ran || propagated;
         if (propagated && g[4] >= 0) {
             i = g[4];
