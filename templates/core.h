@@ -537,8 +537,8 @@ struct UndoStack {
     int head;  // index of the oldest entry
     TurnScratch* scratch;  // kMaxTurnNesting of them, or null (a turn's scratch on its stack)
     int scratchDepth;      // turns running
-    // psc_expand on the GPU: when an again chain stops, on the GPU's clock
-    // (gpuNanoseconds, templates/engine.h); 0: never.
+    // psc_expand's deadline: when an again chain stops, on deadlineClock
+    // (templates/engine.h); 0: never.
     unsigned long long deadline;
 };
 

@@ -167,8 +167,8 @@ extern "C" __global__ void psc_observe_kernel(psc_game::DeviceBatch b) {
 #if PSC_SEARCH_KERNELS
 // Child k = i * actionCount + a of psc_expand: key i after input actions[a],
 // decoded over a copy of the template environment (templates/state_key.h).
-// With a deadline (gpuNanoseconds; 0: none), a child not started by then,
-// or whose again chain it cut short, is flagged kExpandTimedOut instead.
+// With a deadline (on the GPU's clock, deadlineClock; 0: none), children
+// the deadline leaves out are flagged kExpandTimedOut (expandKey).
 extern "C" __global__ void psc_expand_kernel(psc_game::DeviceBatch b, int templateEnv, const unsigned long long* keys,
                                              int count, const int* actions, int actionCount, unsigned long long* children,
                                              unsigned char* flags, unsigned long long* hashes, int* estimates,
@@ -187,9 +187,7 @@ extern "C" __global__ void psc_expand_kernel(psc_game::DeviceBatch b, int templa
             flags[k] = kExpandInvalid;
             return;
         }
-        const bool late = deadline && gpuNanoseconds() >= deadline;
-        u8 f = late ? kExpandTimedOut : expandKey(e, parent, action, child, deadline);
-        if ((f & kExpandCutOff) && deadline && gpuNanoseconds() >= deadline) f = kExpandTimedOut;
+        const u8 f = expandKey(e, parent, action, child, deadline);
         flags[k] = f;
         if (hashes) hashes[k] = f == kExpandTimedOut ? 0 : hashKey(child);
         if (estimates) estimates[k] = f == kExpandTimedOut ? 0 : winDistance(e);
@@ -197,5 +195,5 @@ extern "C" __global__ void psc_expand_kernel(psc_game::DeviceBatch b, int templa
 }
 
 // The GPU's clock, read once a batch to put psc_set_deadline's deadline on it.
-extern "C" __global__ void psc_clock_kernel(unsigned long long* now) { *now = psc_game::gpuNanoseconds(); }
+extern "C" __global__ void psc_clock_kernel(unsigned long long* now) { *now = psc_game::deadlineClock(); }
 #endif

@@ -396,29 +396,29 @@ inline constexpr int kInputCount = 8;
 // (an animation loop) is cut off here.
 inline constexpr int kMaxAgainTurns = 10000;
 
+// The clock of psc_expand's deadlines (psc_set_deadline), in nanoseconds:
+// the host's steady clock on the CPU (runtime/plugin_host/ExpandDeadline.h),
+// the GPU's global timer on the GPU (the host puts the deadline on it).
 #if !defined(__CUDACC__)
 }  // namespace psc_game
 namespace psc_host {
-bool expandDeadlinePassed();  // runtime/plugin_host/ExpandDeadline.h
+int64_t steadyNanoseconds();
 }  // namespace psc_host
 namespace psc_game {
-// psc_expand's deadline (psc_set_deadline) has passed, checked every 16
-// again turns: on the CPU the thread's (runtime/plugin_host/ExpandDeadline.h).
-inline bool chainPastDeadline(const UndoStack&, int turns) {
-    return (turns & 15) == 15 && psc_host::expandDeadlinePassed();
-}
+inline unsigned long long deadlineClock() { return static_cast<unsigned long long>(psc_host::steadyNanoseconds()); }
 #else
-// The GPU's global nanosecond clock, which psc_expand's deadline is on.
-PSC_DEVICE PSC_INLINE unsigned long long gpuNanoseconds() {
+PSC_DEVICE PSC_INLINE unsigned long long deadlineClock() {
     unsigned long long t;
     asm volatile("mov.u64 %0, %%globaltimer;" : "=l"(t));
     return t;
 }
-// On the GPU the expansion's own (UndoStack::deadline).
-PSC_DEVICE PSC_INLINE bool chainPastDeadline(const UndoStack& u, int turns) {
-    return u.deadline && (turns & 15) == 15 && gpuNanoseconds() >= u.deadline;
-}
 #endif
+// Whether a deadline on deadlineClock (0: none) has passed.
+PSC_DEVICE PSC_INLINE bool deadlinePassed(unsigned long long deadline) { return deadline && deadlineClock() >= deadline; }
+// An again chain stops at the expansion's deadline (UndoStack::deadline), checked every 16 turns.
+PSC_DEVICE PSC_INLINE bool chainPastDeadline(const UndoStack& u, int turns) {
+    return (turns & 15) == 15 && deadlinePassed(u.deadline);
+}
 
 // psc_again_mode: a step settles its `again` chain (the reference's test
 // harness), or runs one turn and leaves the next for a later step (its player,

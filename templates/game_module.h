@@ -148,8 +148,8 @@ void moduleEncodeKey(const void* env, uint64_t* key) { encodeKey(envOf(env), wor
 void moduleDecodeKey(void* env, const uint64_t* key) { decodeKey(envOf(env), words(key)); }
 int moduleKeyEntry(const uint64_t* key) { return keyEntry(words(key)); }
 uint64_t moduleHashKey(const uint64_t* key) { return hashKey(words(key)); }
-uint8_t moduleExpandKey(void* env, const uint64_t* parent, int input, uint64_t* child) {
-    return expandKey(envOf(env), words(parent), input, words(child));
+uint8_t moduleExpandKey(void* env, const uint64_t* parent, int input, uint64_t* child, int64_t deadline) {
+    return expandKey(envOf(env), words(parent), input, words(child), static_cast<unsigned long long>(deadline));
 }
 int moduleWinDistance(const void* env) { return winDistance(envOf(env)); }
 

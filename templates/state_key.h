@@ -140,8 +140,12 @@ enum ExpandFlag : u8 { kExpandWon = 1, kExpandUnchanged = 2, kExpandCutOff = 4, 
 constexpr bool kExpandTooLarge = !PSC_STATE_IN_REGISTERS && sizeof(Env) > 128 * 1024;
 
 // The child of `parent` under `input`, decoded over the template `e` (which
-// this overwrites); the level stays as it is when the input wins it.
-PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child, unsigned long long deadline = 0) {
+// this overwrites); the level stays as it is when the input wins it.  With a
+// deadline (on deadlineClock; 0: none), a child not started by then, or whose
+// again chain it cut short, is no child: kExpandTimedOut, `child` unwritten
+// or not one.
+PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child, unsigned long long deadline) {
+    if (deadlinePassed(deadline)) return kExpandTimedOut;
     decodeKey(e, parent);
     e.stopOnWin = 1;
     e.needsReset = 0;
@@ -151,6 +155,7 @@ PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child,
     encodeKey(e, child);
     bool same = true;
     PSC_UNROLL_STATE for (int k = 0; k < kKeyWords; ++k) same = same && child[k] == parent[k];
+    if (!settled && deadlinePassed(deadline)) return kExpandTimedOut;
     return static_cast<u8>((e.wins > 0 ? kExpandWon : 0) | (same ? kExpandUnchanged : 0) | (settled ? 0 : kExpandCutOff));
 }
 

@@ -29,7 +29,7 @@ struct UndoRing {
     int head;  // index of the oldest entry
     void* turnScratch;
     int turnScratchDepth;
-    unsigned long long deadline;  // the GPU's expansion deadline; 0 on the CPU, which keeps its own
+    unsigned long long deadline;  // the engine's UndoStack::deadline (psc_expand's own undo stack sets it)
 };
 
 // The fields of an environment the host reads.
@@ -125,7 +125,8 @@ struct GameModule {
     void (*decodeKey)(void* env, const uint64_t* key);
     int (*keyEntry)(const uint64_t* key);
     uint64_t (*hashKey)(const uint64_t* key);
-    uint8_t (*expandKey)(void* env, const uint64_t* parent, int input, uint64_t* child);
+    // deadline: steadyNanoseconds (ExpandDeadline.h) when the expansion stops, 0: none.
+    uint8_t (*expandKey)(void* env, const uint64_t* parent, int input, uint64_t* child, int64_t deadline);
     int (*winDistance)(const void* env);
 };
 

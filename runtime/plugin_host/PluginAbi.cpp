@@ -565,22 +565,15 @@ PSC_API int psc_expand(psc_batch* batch, int32_t template_env, const void* keys,
     if (pairs > INT32_MAX) return fail(PSC_ERROR_BAD_ARGUMENT, "count * action_count must be below 2^31");
     const int64_t deadline = batch->expandDeadline;
     batch->pool->run(static_cast<int>(pairs), [&](int begin, int end) {
-        ExpandDeadlineScope scope(deadline);
         EnvBuffer e(g.envBytes);
         for (int at = begin; at < end; ++at) {
             uint64_t* child = out + static_cast<size_t>(at) * words;
-            if (expandDeadlinePassed()) {
-                flags[at] = PSC_EXPAND_TIMED_OUT;
-                if (hashes) hashes[at] = 0;
-                if (estimates) estimates[at] = 0;
-                continue;
-            }
             std::memcpy(e.data(), base, g.envBytes);
-            flags[at] = g.expandKey(e.data(), parents + static_cast<size_t>(at / action_count) * words, actions[at % action_count], child);
-            // A chain the deadline cut short is no child.
-            if ((flags[at] & PSC_EXPAND_CUT_OFF) && expandDeadlinePassed()) flags[at] = PSC_EXPAND_TIMED_OUT;
-            if (hashes) hashes[at] = g.hashKey(child);
-            if (estimates) estimates[at] = g.winDistance(e.data());
+            flags[at] = g.expandKey(e.data(), parents + static_cast<size_t>(at / action_count) * words, actions[at % action_count],
+                                    child, deadline);
+            const bool timedOut = flags[at] == PSC_EXPAND_TIMED_OUT;
+            if (hashes) hashes[at] = timedOut ? 0 : g.hashKey(child);
+            if (estimates) estimates[at] = timedOut ? 0 : g.winDistance(e.data());
         }
     });
     return PSC_OK;
