@@ -770,6 +770,11 @@ void Scanner::layersToken(LineCursor& s, bool sol) {
         error("BACKGROUND must be alone in its collision layer", &s);
     }
     std::vector<std::string> objects = objectsOf(name);
+    if (game_.collisionLayers.empty()) {
+        // Only a line's first token starts a layer; a stray ')' can take that place.
+        error("no collision layer to add " + toUpperAscii(name) + " to: a layer starts at the beginning of a line", &s);
+        return;
+    }
 
     std::vector<size_t> otherLayers;
     for (const auto& o : objects) {
