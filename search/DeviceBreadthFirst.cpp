@@ -1,7 +1,7 @@
 // Breadth-first search with its states on the GPU: as BreadthFirst.cpp, layer
 // by layer and a child tested for a win when generated, but the states stay
 // in a DeviceStateSet, where each layer is a contiguous range expanded in
-// batches straight from the store.  It finds the same solution as the host
+// batches straight from its key window.  It finds the same solution as the host
 // search (the stores hold the same states in the same order); the host only
 // reads each batch's outcome.  Batches are sized to the time left, as the
 // host searches' are.
@@ -22,6 +22,7 @@ SolveResult deviceBreadthFirst(SearchRun& run) {
     size_t layerBegin = 0;
     size_t layerEnd = 1;
     for (uint32_t depth = 0; layerBegin < layerEnd; ++depth) {
+        set.beginLayer();
         for (size_t begin = layerBegin; begin < layerEnd;) {
             if (run.stopped(set.size())) return run.finish(Status::Limit, set.size(), set.bytes());
             const size_t count = set.room(run.batchWithinTime(std::min(space.maxBatch(), layerEnd - begin)));

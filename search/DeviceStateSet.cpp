@@ -20,8 +20,8 @@ const std::string& stateSetKernelSource();  // state_set_kernels.cu, embedded at
 
 // state_set_kernels.cu's StateSet, byte for byte.
 struct DeviceStateSet::KernelArgs {
-    CuDevicePtr keys, parents, inputs, hashes, table;
-    uint32_t tableMask, tableBits, words, capacity;
+    CuDevicePtr chunks, table, nextKeys;
+    uint32_t tableMask, tableBits, words, capacity, nextBase, nextCapacity;
 };
 
 namespace {
@@ -41,8 +41,15 @@ struct Counters {
 constexpr unsigned kCountBlock = 1024;  // PSC_BLOCK
 constexpr unsigned kBlock = 256;
 constexpr uint64_t kNoWin = ~uint64_t{0};
+constexpr size_t kStateBytes = 16 + 4 + 1;  // print, parent, input
 // State indices stay below the kernels' candidate bit.
 constexpr size_t kMaxCapacity = (size_t{1} << 31) - 1;
+constexpr int kFirstChunkBits = 16;  // PSC_FIRST_CHUNK_BITS
+constexpr size_t kMaxChunks = 32 - kFirstChunkBits;
+
+// Chunk c's first state and nominal size.
+size_t chunkStart(size_t c) { return (size_t{1} << (kFirstChunkBits + c)) - (size_t{1} << kFirstChunkBits); }
+size_t chunkSize(size_t c) { return size_t{1} << (kFirstChunkBits + c); }
 
 // A table of 2^bits slots holds `capacity` states at most three quarters full.
 int tableBitsFor(size_t capacity) {
@@ -110,7 +117,8 @@ void DeviceStateSet::acquire(size_t memoryLimit) {
                                                           {&count_, "psc_set_count"},
                                                           {&scan_, "psc_set_scan"},
                                                           {&append_, "psc_set_append"},
-                                                          {&rehash_, "psc_set_rehash"}};
+                                                          {&rehash_, "psc_set_rehash"},
+                                                          {&addRoot_, "psc_set_add_root"}};
     for (const auto& [f, name] : kernels) check(d_.cuModuleGetFunction(f, module_, name), name);
     check(d_.cuStreamCreate(&stream_, 0), "creating a CUDA stream");
     space_.setStream(stream_);
@@ -118,8 +126,10 @@ void DeviceStateSet::acquire(size_t memoryLimit) {
     const size_t children = space_.maxBatch() * space_.inputs().size();
     const size_t blocks = (children + kCountBlock - 1) / kCountBlock;
     check(d_.cuMemAlloc(&slotOf_, children * 4), "allocating device memory for search");
+    check(d_.cuMemAlloc(&childPrints_, children * 16), "allocating device memory for search");
     check(d_.cuMemAlloc(&blockCounts_, std::max<size_t>(blocks, 1) * 4), "allocating device memory for search");
     check(d_.cuMemAlloc(&counters_, sizeof(Counters)), "allocating device memory for search");
+    check(d_.cuMemAlloc(&chunkTable_, 3 * kMaxChunks * sizeof(CuDevicePtr)), "allocating device memory for search");
     const Counters start{kNoWin, 0, 0, 0, 0, 0};
     check(d_.cuMemcpyHtoD(counters_, &start, sizeof start), "clearing search's counters");
 
@@ -144,8 +154,8 @@ void DeviceStateSet::release() {
             // The batch's stream only matters while this set exists.
         }
     }
-    freeArrays();
-    for (CuDevicePtr p : {table_, slotOf_, blockCounts_, counters_}) {
+    for (CuDevicePtr p : chunks_) d_.cuMemFree(p);
+    for (CuDevicePtr p : {chunkTable_, table_, layerKeys_, nextKeys_, slotOf_, childPrints_, blockCounts_, counters_}) {
         if (p) d_.cuMemFree(p);
     }
     if (module_) d_.cuModuleUnload(module_);
@@ -153,20 +163,21 @@ void DeviceStateSet::release() {
     d_.cuDevicePrimaryCtxRelease(device_);
 }
 
-void DeviceStateSet::freeArrays() {
-    for (CuDevicePtr* p : {&keys_, &parents_, &inputs_, &hashes_}) {
-        if (*p) d_.cuMemFree(*p);
-        *p = 0;
-    }
+size_t DeviceStateSet::bytes() const {
+    return capacity_ * kStateBytes + (capacity_ ? size_t{4} << tableBits_ : 0) +
+           windowBytes(layerCapacity_ + nextCapacity_);
 }
 
-size_t DeviceStateSet::stateBytes() const { return words_ * 8 + 8 + 4 + 1; }  // key, hash, parent, input
-
-size_t DeviceStateSet::bytes() const { return capacity_ * stateBytes() + (capacity_ ? size_t{4} << tableBits_ : 0); }
-
 DeviceStateSet::KernelArgs DeviceStateSet::kernelArgs() const {
-    return KernelArgs{keys_, parents_, inputs_, hashes_, table_, static_cast<uint32_t>((size_t{1} << tableBits_) - 1),
-                      static_cast<uint32_t>(tableBits_), static_cast<uint32_t>(words_), static_cast<uint32_t>(capacity_)};
+    return KernelArgs{chunkTable_,
+                      table_,
+                      nextKeys_,
+                      static_cast<uint32_t>((size_t{1} << tableBits_) - 1),
+                      static_cast<uint32_t>(tableBits_),
+                      static_cast<uint32_t>(words_),
+                      static_cast<uint32_t>(capacity_),
+                      static_cast<uint32_t>(nextBase_),
+                      static_cast<uint32_t>(nextCapacity_)};
 }
 
 // States [0, count) entered into the (empty) table.
@@ -184,65 +195,98 @@ void DeviceStateSet::launch(CuFunction f, size_t threads, unsigned block, void**
           "launching search's GPU kernels");
 }
 
-// A store of at least `minimum` states (and `wanted` if memory allows, or
-// twice the present one): new arrays, the states copied, the table rebuilt.
+// A store of at least `minimum` states (and `wanted` if memory allows):
+// chunks added, the last one cut to what memory holds, and the table rebuilt
+// for the new capacity.  The chunks already filled stay where they are.
 bool DeviceStateSet::grow(size_t wanted, size_t minimum) {
-    const size_t held = capacity_ * stateBytes();  // the old arrays live until copied
-    auto cost = [&](size_t states) { return states * stateBytes() + (size_t{4} << tableBitsFor(states)); };
-    minimum = std::max(minimum, capacity_ + 1);
-    size_t target = std::min(std::max(wanted, capacity_ * 2), kMaxCapacity);
-    while (target > minimum && held + cost(target) > memoryLimit_) target = std::max(minimum, target - std::max<size_t>(target / 8, 1));
-    if (target < minimum || target > kMaxCapacity || held + cost(target) > memoryLimit_) return false;
+    if (minimum > kMaxCapacity) return false;
+    wanted = std::min(std::max(wanted, minimum), kMaxCapacity);
+    const size_t oldTable = capacity_ ? size_t{4} << tableBits_ : 0;
+    // Memory for `more` states in a new chunk; the old table is freed before the new one is made.
+    auto fits = [&](size_t more) {
+        return bytes() - oldTable + more * kStateBytes + (size_t{4} << tableBitsFor(capacity_ + more)) <= memoryLimit_;
+    };
+    CudaContextScope scope(context_);
+    const size_t before = capacity_;
+    while (capacity_ < wanted && !lastChunk_ && chunks_.size() < 3 * kMaxChunks) {
+        const size_t c = chunks_.size() / 3;
+        const size_t least = minimum > capacity_ ? minimum - capacity_ : 1;
+        size_t states = std::min(chunkSize(c), kMaxCapacity - chunkStart(c));
+        // Where the whole chunk does not fit, as much of it as does: the last chunk.
+        while (states > least && !fits(states)) states = std::max(least, states - std::max<size_t>(states / 16, 1));
+        if (!fits(states)) break;
+        CuDevicePtr parts[3] = {0, 0, 0};
+        const size_t bytes[3] = {states * 16, states * 4, states};
+        bool allocated = true;
+        for (int i = 0; i < 3 && allocated; ++i) allocated = !d_.cuMemAlloc(&parts[i], bytes[i]);
+        if (!allocated) {
+            for (CuDevicePtr p : parts) {
+                if (p) d_.cuMemFree(p);
+            }
+            memoryLimit_ = 0;  // the driver's memory ran out before the limit did (another process took some)
+            break;
+        }
+        check(d_.cuMemcpyHtoD(chunkTable_ + 3 * c * sizeof(CuDevicePtr), parts, sizeof parts), "recording a chunk");
+        chunks_.insert(chunks_.end(), parts, parts + 3);
+        capacity_ = chunkStart(c) + states;
+        lastChunk_ = states < chunkSize(c);
+    }
+    if (capacity_ != before && (!table_ || tableBitsFor(capacity_) != tableBits_)) rebuildTable(tableBitsFor(capacity_));
+    return capacity_ >= minimum;
+}
 
+// The table made anew with 2^bits slots, the stored states entered.
+bool DeviceStateSet::rebuildTable(int bits) {
     CudaContextScope scope(context_);
     check(d_.cuStreamSynchronize(stream_), "waiting for the device");
     if (table_) check(d_.cuMemFree(table_), "freeing device memory");
     table_ = 0;
-    CuDevicePtr keys = 0, parents = 0, inputs = 0, hashes = 0;
-    const bool allocated = !d_.cuMemAlloc(&keys, target * words_ * 8) && !d_.cuMemAlloc(&parents, target * 4) &&
-                           !d_.cuMemAlloc(&inputs, target) && !d_.cuMemAlloc(&hashes, target * 8);
-    const int bits = tableBitsFor(target);
-    const bool tableAllocated = allocated && !d_.cuMemAlloc(&table_, size_t{4} << bits);
-    if (!tableAllocated) {
-        // The driver's memory ran out before the limit did (another process took some): stop as at the limit.
-        for (CuDevicePtr p : {keys, parents, inputs, hashes}) {
-            if (p) d_.cuMemFree(p);
-        }
-        check(d_.cuMemAlloc(&table_, size_t{4} << tableBits_), "allocating device memory for search");
-        check(d_.cuMemsetD32Async(table_, 0xffffffffu, size_t{1} << tableBits_, stream_), "clearing the table");
+    if (d_.cuMemAlloc(&table_, size_t{4} << bits)) {
+        // Too little memory for the larger table: the old size again, whose memory was just freed.
         memoryLimit_ = 0;
+        check(d_.cuMemAlloc(&table_, size_t{4} << tableBits_), "allocating device memory for search");
+        capacity_ = std::min(capacity_, (size_t{3} << tableBits_) / 4);
     } else {
-        if (size_) {
-            check(d_.cuMemcpyDtoD(keys, keys_, size_ * words_ * 8), "copying the store");
-            check(d_.cuMemcpyDtoD(parents, parents_, size_ * 4), "copying the store");
-            check(d_.cuMemcpyDtoD(inputs, inputs_, size_), "copying the store");
-            check(d_.cuMemcpyDtoD(hashes, hashes_, size_ * 8), "copying the store");
-        }
-        freeArrays();
-        keys_ = keys;
-        parents_ = parents;
-        inputs_ = inputs;
-        hashes_ = hashes;
-        capacity_ = target;
         tableBits_ = bits;
-        check(d_.cuMemsetD32Async(table_, 0xffffffffu, size_t{1} << tableBits_, stream_), "clearing the table");
     }
+    check(d_.cuMemsetD32Async(table_, 0xffffffffu, size_t{1} << tableBits_, stream_), "clearing the table");
     rehash(size_);
     check(d_.cuStreamSynchronize(stream_), "rebuilding search's table");
-    return tableAllocated;
+    return tableBits_ == bits;
+}
+
+// A window for the layer being built of at least `minimum` keys (and
+// `wanted` if memory allows, or twice the present one), its keys copied.
+bool DeviceStateSet::growWindow(size_t wanted, size_t minimum) {
+    const size_t held = bytes();  // the old window lives until copied
+    minimum = std::max(minimum, nextCapacity_ + 1);
+    size_t target = std::min(std::max(wanted, nextCapacity_ * 2), kMaxCapacity);
+    while (target > minimum && held + windowBytes(target) > memoryLimit_) target = std::max(minimum, target - std::max<size_t>(target / 8, 1));
+    if (target < minimum || held + windowBytes(target) > memoryLimit_) return false;
+
+    CudaContextScope scope(context_);
+    check(d_.cuStreamSynchronize(stream_), "waiting for the device");
+    CuDevicePtr keys = 0;
+    if (d_.cuMemAlloc(&keys, windowBytes(target))) {
+        memoryLimit_ = 0;  // as in grow(): the driver's memory ran out first
+        return false;
+    }
+    if (size_ > nextBase_) check(d_.cuMemcpyDtoD(keys, nextKeys_, windowBytes(size_ - nextBase_)), "copying the layer's keys");
+    if (nextKeys_) check(d_.cuMemFree(nextKeys_), "freeing device memory");
+    nextKeys_ = keys;
+    nextCapacity_ = target;
+    return true;
 }
 
 bool DeviceStateSet::addRoot() {
     if (size_) throw std::logic_error("DeviceStateSet::addRoot: the store is not empty");
-    if (capacity_ == 0) return false;
+    if (capacity_ == 0 || (nextCapacity_ == 0 && !growWindow(1, 1))) return false;
     CudaContextScope scope(context_);
-    const uint32_t noParent = StateStore::kNoParent;
-    const uint8_t input = 0;
-    const uint64_t hash = space_.rootHash();
-    check(d_.cuMemcpyHtoD(keys_, space_.root().data(), words_ * 8), "storing the first state");
-    check(d_.cuMemcpyHtoD(parents_, &noParent, 4), "storing the first state");
-    check(d_.cuMemcpyHtoD(inputs_, &input, 1), "storing the first state");
-    check(d_.cuMemcpyHtoD(hashes_, &hash, 8), "storing the first state");
+    check(d_.cuMemcpyHtoD(nextKeys_, space_.root().data(), windowBytes(1)), "storing the first state");
+    KernelArgs s = kernelArgs();
+    uint64_t hash = space_.rootHash();
+    void* args[] = {&s, &hash};
+    launch(addRoot_, 1, 1, args);
     const uint32_t one = 1;
     check(d_.cuMemcpyHtoD(counters_ + offsetof(Counters, size), &one, 4), "storing the first state");
     size_ = 1;
@@ -250,10 +294,19 @@ bool DeviceStateSet::addRoot() {
     return true;
 }
 
+void DeviceStateSet::beginLayer() {
+    std::swap(layerKeys_, nextKeys_);
+    std::swap(layerCapacity_, nextCapacity_);
+    layerBase_ = nextBase_;
+    nextBase_ = size_;
+}
+
 size_t DeviceStateSet::room(size_t wanted) {
     const size_t inputs = space_.inputs().size();
     if (size_ + wanted * inputs > capacity_) grow(size_ + wanted * inputs, size_ + inputs);
-    if (size_ >= capacity_) return 0;
+    const size_t building = size_ - nextBase_;
+    if (building + wanted * inputs > nextCapacity_) growWindow(building + wanted * inputs, building + inputs);
+    if (size_ >= capacity_ || building >= nextCapacity_) return 0;
     // Most children are known states, so a batch may have more children than
     // the store has room (the append kernel reports an overflow), but never
     // more than the table's free slots: a probe must find an empty one.
@@ -263,11 +316,12 @@ size_t DeviceStateSet::room(size_t wanted) {
 
 DeviceStateSet::Outcome DeviceStateSet::expand(uint32_t first, size_t count) {
     const size_t inputs = space_.inputs().size();
-    if (count > space_.maxBatch() || size_ + count * inputs >= (size_t{1} << tableBits_)) {
-        throw std::logic_error("DeviceStateSet::expand: more states than room() allows");
+    if (count > space_.maxBatch() || first < layerBase_ || first + count > nextBase_ ||
+        size_ + count * inputs >= (size_t{1} << tableBits_)) {
+        throw std::logic_error("DeviceStateSet::expand: states outside the layer, or more than room() allows");
     }
     CudaContextScope scope(context_);
-    space_.expandResident(reinterpret_cast<const void*>(keys_ + first * words_ * 8), count);
+    space_.expandResident(reinterpret_cast<const void*>(layerKeys_ + windowBytes(first - layerBase_)), count);
     KernelArgs s = kernelArgs();
     CuDevicePtr children = reinterpret_cast<CuDevicePtr>(space_.deviceChildren());
     CuDevicePtr flags = reinterpret_cast<CuDevicePtr>(space_.deviceFlags());
@@ -276,19 +330,20 @@ DeviceStateSet::Outcome DeviceStateSet::expand(uint32_t first, size_t count) {
     uint32_t inputCount = static_cast<uint32_t>(inputs);
     uint32_t firstParent = first;
     uint32_t blocks = (n + kCountBlock - 1) / kCountBlock;
-    void* insertArgs[] = {&s, &children, &flags, &hashes, &n, &inputCount, &firstParent, &slotOf_, &counters_};
+    void* insertArgs[] = {&s, &children, &flags, &hashes, &n, &inputCount, &firstParent, &slotOf_, &childPrints_, &counters_};
     launch(insert_, n, kBlock, insertArgs);
     void* countArgs[] = {&table_, &slotOf_, &n, &blockCounts_};
     launch(count_, size_t{blocks} * kCountBlock, kCountBlock, countArgs);
     void* scanArgs[] = {&blockCounts_, &blocks, &counters_};
     launch(scan_, kCountBlock, kCountBlock, scanArgs);
-    void* appendArgs[] = {&s, &children, &hashes, &slotOf_, &n, &inputCount, &firstParent, &blockCounts_, &counters_};
+    void* appendArgs[] = {&s, &children, &childPrints_, &slotOf_, &n, &inputCount, &firstParent, &blockCounts_, &counters_};
     launch(append_, size_t{blocks} * kCountBlock, kCountBlock, appendArgs);
     check(d_.cuStreamSynchronize(stream_), "expanding states on the device");
     Counters c{};
     check(d_.cuMemcpyDtoH(&c, counters_, sizeof c), "reading search's counters");
     if (c.invalid) throw std::runtime_error("the plugin refused to expand a state");
-    size_ = std::min<size_t>(c.size, capacity_);
+    // New states past either end were left out (an overflow, which stops the search).
+    size_ = std::min<size_t>({c.size, capacity_, nextBase_ + nextCapacity_});
     Outcome o;
     o.full = c.overflow != 0;
     o.timedOut = c.timedOut != 0;
@@ -304,11 +359,15 @@ std::vector<int> DeviceStateSet::path(uint32_t state) const {
     CudaContextScope scope(context_);
     std::vector<int> inputs;
     for (;;) {
+        const size_t biased = size_t{state} + (size_t{1} << kFirstChunkBits);
+        const int top = 63 - __builtin_clzll(biased);
+        const size_t offset = biased - (size_t{1} << top);
+        const size_t chunk = 3 * static_cast<size_t>(top - kFirstChunkBits);
         uint32_t parent = 0;
         uint8_t input = 0;
-        check(d_.cuMemcpyDtoH(&parent, parents_ + size_t{state} * 4, 4), "reading a solution");
+        check(d_.cuMemcpyDtoH(&parent, chunks_[chunk + 1] + 4 * offset, 4), "reading a solution");
         if (parent == StateStore::kNoParent) break;
-        check(d_.cuMemcpyDtoH(&input, inputs_ + state, 1), "reading a solution");
+        check(d_.cuMemcpyDtoH(&input, chunks_[chunk + 2] + offset, 1), "reading a solution");
         inputs.push_back(input);
         state = parent;
     }

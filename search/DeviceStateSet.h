@@ -1,17 +1,29 @@
 // Every state a breadth-first search on the GPU has reached, each once, in
-// device memory: keys, parents, inputs and hashes in arrays indexed by state,
-// and an open-addressing table of state indices over the keys' hashes.  A
-// batch of states is expanded (psc_expand, on the plugin's batch) and its
+// device memory: prints (128 bits that tell states apart), parents and
+// inputs, indexed by state, and an open-addressing table of state indices
+// over the prints.  Keys are kept only for two layers: the one being expanded
+// and the one being built, each in a window of its own.  A state thus costs
+// 21 bytes and 5-11 bytes of table, whatever its key's size (a key of atlas'
+// large levels is 3.6 kB), up to 2^31 states.
+//
+// A print is the key itself where the key has at most two words; otherwise
+// the plugin's hash and a second, independent 64-bit hash: two states are
+// then taken for one with a probability of about 2^-128 a pair (below 10^-20
+// that any two of 2^31 states are; state_set_kernels.cu's printOf).  Children
+// of one batch are compared with each other by key.
+//
+// A batch of states is expanded (psc_expand, on the plugin's batch) and its
 // children inserted without leaving the device: four kernels
 // (state_set_kernels.cu) claim table slots, count the new states per block,
 // scan the counts and append the new states in the children's order, so the
 // store's contents and order equal the host store's (StateStore.h) for the
-// same search.  Duplicates are confirmed on the whole key.  The host reads 32
-// bytes a batch: the store's size and the first winning child.
+// same search.  The host reads 32 bytes a batch: the store's size and the
+// first winning child.
 //
-// States of one breadth-first layer are contiguous in the store, so a layer
-// is expanded straight from it, with no gathering.  The store grows by
-// doubling up to its memory limit; a search that needs more stops there.
+// States of one breadth-first layer are contiguous in the store and in their
+// window, so a layer is expanded straight from it, with no gathering.  The
+// store grows by chunks that double in size, never copied, and its window by
+// doubling, up to the memory limit; a search that needs more stops there.
 #pragma once
 
 #include <cstdint>
@@ -32,8 +44,11 @@ public:
     DeviceStateSet(const DeviceStateSet&) = delete;
     DeviceStateSet& operator=(const DeviceStateSet&) = delete;
 
-    // Stores the space's root as state 0; false when the memory limit holds no state.
+    // Stores the space's root as state 0, the first layer; false when the memory limit holds no state.
     bool addRoot();
+    // The states stored since the last call (or addRoot) become the layer
+    // that expand() takes: the previous layer's keys are dropped.
+    void beginLayer();
 
     // The most parents the next expand() may take, up to `wanted` (the store
     // grown for all their children if memory allows).  0 when the store is full.
@@ -46,8 +61,8 @@ public:
         bool full = false;    // new states were left out: the store is full (stop at the memory limit)
         bool timedOut = false;  // the expansion's deadline left children out (stop at the time limit)
     };
-    // Expands states [first, first + count) (count <= room()) and stores
-    // their new children, as many as fit; waits for the device.
+    // Expands states [first, first + count) of the layer begun last (count
+    // <= room()) and stores their new children, as many as fit; waits for the device.
     Outcome expand(uint32_t first, size_t count);
 
     size_t size() const { return size_; }
@@ -61,10 +76,11 @@ private:
     void check(CuResult result, const char* what) const;
     void launch(CuFunction f, size_t threads, unsigned block, void** args);
     KernelArgs kernelArgs() const;
-    size_t stateBytes() const;
     void rehash(size_t count);
     bool grow(size_t wanted, size_t minimum);
-    void freeArrays();
+    bool rebuildTable(int bits);
+    bool growWindow(size_t wanted, size_t minimum);
+    size_t windowBytes(size_t states) const { return states * words_ * 8; }
 
     StateSpace& space_;
     const CudaDriver& d_;
@@ -72,15 +88,24 @@ private:
     int device_ = 0;
     CuStream stream_ = nullptr;
     CuModule module_ = nullptr;
-    CuFunction insert_ = nullptr, count_ = nullptr, scan_ = nullptr, append_ = nullptr, rehash_ = nullptr;
+    CuFunction insert_ = nullptr, count_ = nullptr, scan_ = nullptr, append_ = nullptr, rehash_ = nullptr,
+               addRoot_ = nullptr;
     size_t memoryLimit_ = 0;
     size_t words_ = 0;
     size_t size_ = 0;
     size_t capacity_ = 0;
     int tableBits_ = 0;
-    // Device arrays: the store, its table, per-child slots, per-block counts, the counters.
-    CuDevicePtr keys_ = 0, parents_ = 0, inputs_ = 0, hashes_ = 0, table_ = 0;
-    CuDevicePtr slotOf_ = 0, blockCounts_ = 0, counters_ = 0;
+    // The key windows: states [layerBase_, nextBase_) being expanded, and
+    // [nextBase_, size_) being stored, room for layerCapacity_ and nextCapacity_.
+    size_t layerBase_ = 0, nextBase_ = 0, layerCapacity_ = 0, nextCapacity_ = 0;
+    // The store's chunks, three arrays each (state_set_kernels.cu's StateSet
+    // says what they hold): one smaller than its nominal size is the last.
+    std::vector<CuDevicePtr> chunks_;
+    bool lastChunk_ = false;
+    // Device arrays: the chunks' addresses, the table, the windows, per-child
+    // slots and prints, per-block counts, the counters.
+    CuDevicePtr chunkTable_ = 0, table_ = 0, layerKeys_ = 0, nextKeys_ = 0;
+    CuDevicePtr slotOf_ = 0, childPrints_ = 0, blockCounts_ = 0, counters_ = 0;
 };
 
 }  // namespace psc::search

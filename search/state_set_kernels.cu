@@ -3,6 +3,12 @@
 // NVRTC once per machine and cached.  Game-independent: keys are `words`
 // 64-bit words long.
 //
+// Every stored state is known by its 128-bit print (printOf): its key itself
+// when the key has at most two words, else the plugin's 64-bit hash beside a
+// second, independent one.  Only the layer being expanded and the one being
+// built keep their keys (a window each).  Prints, parents and inputs live in
+// chunks that double in size (chunkOf), so the store grows without copying.
+//
 // The table holds, per slot, a state's index in the store, or a child of the
 // batch being inserted (kCandidate | its index among the children), or
 // kEmpty.  Equal children of one batch meet in one slot, where the smallest
@@ -24,16 +30,22 @@ typedef unsigned long long u64;
 #define PSC_INVALID 8u
 #define PSC_TIMED_OUT 16u
 
+#define PSC_FIRST_CHUNK_BITS 16
+
 struct StateSet {
-    u64* keys;               // capacity * words
-    u32* parents;            // the state each was first reached from
-    unsigned char* inputs;   // and by which input (its index among the search's inputs)
-    u64* hashes;             // psc_expand's hash of each key, for rebuilding the table when the store grows
+    // Chunk c holds states [2^16 (2^c - 1), 2^16 (2^(c+1) - 1)) (the last
+    // maybe fewer) in three arrays, chunks[3c..3c+2]: their prints (two words
+    // each), the states they were first reached from (u32) and by which input
+    // (a byte: its index among the search's inputs).
+    void* const* chunks;
     u32* table;              // 2^tableBits slots
+    u64* nextKeys;           // the keys of states [nextBase, nextBase + nextCapacity): the layer being built
     u32 tableMask;
     u32 tableBits;
     u32 words;
     u32 capacity;
+    u32 nextBase;
+    u32 nextCapacity;
 };
 
 // What the host reads after each batch.
@@ -46,9 +58,57 @@ struct Counters {
     u32 timedOut;   // a child the expansion's deadline left out
 };
 
-// Multiplicative hashing, so that the slot depends on every bit of the key's hash.
-__device__ __forceinline__ u32 slotOfHash(u64 hash, u32 bits) {
-    return static_cast<u32>((hash * 0x9E3779B97F4A7C15ull) >> (64 - bits));
+// A state's chunk and its index there.
+struct ChunkPlace {
+    u32 chunk;
+    u32 offset;
+};
+
+__device__ __forceinline__ ChunkPlace placeOf(u32 state) {
+    const u32 biased = state + (1u << PSC_FIRST_CHUNK_BITS);
+    const u32 top = 31 - __clz(biased);  // floor(log2(biased))
+    return ChunkPlace{top - PSC_FIRST_CHUNK_BITS, biased - (1u << top)};
+}
+
+__device__ __forceinline__ u64* printAt(const StateSet& s, u32 state) {
+    const ChunkPlace p = placeOf(state);
+    return static_cast<u64*>(s.chunks[3 * p.chunk]) + 2 * static_cast<u64>(p.offset);
+}
+
+__device__ __forceinline__ void recordParent(const StateSet& s, u32 state, u32 parent, unsigned char input) {
+    const ChunkPlace p = placeOf(state);
+    static_cast<u32*>(s.chunks[3 * p.chunk + 1])[p.offset] = parent;
+    static_cast<unsigned char*>(s.chunks[3 * p.chunk + 2])[p.offset] = input;
+}
+
+__device__ __forceinline__ u64 mix64(u64 x) {
+    x ^= x >> 33;
+    x *= 0xFF51AFD7ED558CCDull;
+    x ^= x >> 33;
+    x *= 0xC4CEB9FE1A85EC53ull;
+    x ^= x >> 33;
+    return x;
+}
+
+// A key's print: the key itself when it fits in two words (states are then
+// told apart exactly), else psc_expand's hash beside a second 64-bit hash of
+// other constants and another mixing (a false match needs both to collide:
+// about n^2 / 2^129 for n states, 10^-20 at 2^31).
+__device__ __forceinline__ void printOf(const u64* key, u64 hash, u32 words, u64* print) {
+    if (words <= 2) {
+        print[0] = key[0];
+        print[1] = words == 2 ? key[1] : 0;
+        return;
+    }
+    u64 h = 0x6A09E667F3BCC909ull + words;
+    for (u32 i = 0; i < words; ++i) h = mix64(h ^ (key[i] + 0x9E3779B97F4A7C15ull * (i + 1)));
+    print[0] = hash;
+    print[1] = h;
+}
+
+// The print's home slot, depending on every bit of it.
+__device__ __forceinline__ u32 slotOfPrint(const u64* print, u32 bits) {
+    return static_cast<u32>(mix64(print[0] ^ mix64(print[1] + 0x3C6EF372FE94F82Bull)) >> (64 - bits));
 }
 
 __device__ __forceinline__ bool sameKey(const u64* a, const u64* b, u32 words) {
@@ -65,8 +125,10 @@ __device__ __forceinline__ bool isNew(const u32* table, const u32* slotOf, u32 c
 
 // One thread a child: records a win, or claims the child's slot unless an
 // equal state is stored or an equal child with a smaller index claimed it.
+// Children are compared with children by key, with stored states by print.
 extern "C" __global__ void psc_set_insert(StateSet s, const u64* children, const unsigned char* flags, const u64* hashes,
-                                          u32 count, u32 inputCount, u32 firstParent, u32* slotOf, Counters* counters) {
+                                          u32 count, u32 inputCount, u32 firstParent, u32* slotOf, u64* childPrints,
+                                          Counters* counters) {
     const u32 child = blockIdx.x * blockDim.x + threadIdx.x;
     if (child >= count) return;
     slotOf[child] = PSC_EMPTY;
@@ -85,9 +147,13 @@ extern "C" __global__ void psc_set_insert(StateSet s, const u64* children, const
     }
     if (f & (PSC_UNCHANGED | PSC_CUT_OFF)) return;  // kChildNotSearched (SearchRun.h)
     const u64* key = children + static_cast<u64>(child) * s.words;
+    u64 print[2];
+    printOf(key, hashes[child], s.words, print);
+    childPrints[2 * static_cast<u64>(child)] = print[0];
+    childPrints[2 * static_cast<u64>(child) + 1] = print[1];
     const u32 mine = PSC_CANDIDATE | child;
     // The host keeps the table at most about three quarters full, so the probe ends.
-    for (u32 slot = slotOfHash(hashes[child], s.tableBits);; slot = (slot + 1) & s.tableMask) {
+    for (u32 slot = slotOfPrint(print, s.tableBits);; slot = (slot + 1) & s.tableMask) {
         u32 held = __ldcg(s.table + slot);
         if (held == PSC_EMPTY) {
             held = atomicCAS(s.table + slot, PSC_EMPTY, mine);
@@ -96,14 +162,15 @@ extern "C" __global__ void psc_set_insert(StateSet s, const u64* children, const
                 return;
             }
         }
-        const u64* other = (held & PSC_CANDIDATE) ? children + static_cast<u64>(held & ~PSC_CANDIDATE) * s.words
-                                                  : s.keys + static_cast<u64>(held) * s.words;
-        if (sameKey(key, other, s.words)) {
-            if (held & PSC_CANDIDATE) {
+        if (held & PSC_CANDIDATE) {
+            if (sameKey(key, children + static_cast<u64>(held & ~PSC_CANDIDATE) * s.words, s.words)) {
                 atomicMin(s.table + slot, mine);
                 slotOf[child] = slot;
+                return;
             }
-            return;
+        } else {
+            const u64* stored = printAt(s, held);
+            if (stored[0] == print[0] && stored[1] == print[1]) return;
         }
     }
 }
@@ -146,10 +213,12 @@ extern "C" __global__ void psc_set_scan(u32* blockCounts, u32 blocks, Counters* 
     }
 }
 
-// The new states, in the children's order, appended to the store; their
-// slots then hold their store indices.
-extern "C" __global__ void psc_set_append(StateSet s, const u64* children, const u64* hashes, const u32* slotOf, u32 count,
-                                          u32 inputCount, u32 firstParent, const u32* blockOffsets, Counters* counters) {
+// The new states, in the children's order, appended to the store (their
+// keys to the window of the layer being built); their slots then hold their
+// store indices.
+extern "C" __global__ void psc_set_append(StateSet s, const u64* children, const u64* childPrints, const u32* slotOf,
+                                          u32 count, u32 inputCount, u32 firstParent, const u32* blockOffsets,
+                                          Counters* counters) {
     __shared__ u32 warpCounts[PSC_BLOCK / 32];
     const u32 child = blockIdx.x * PSC_BLOCK + threadIdx.x;
     const bool fresh = child < count && isNew(s.table, slotOf, child);
@@ -162,24 +231,31 @@ extern "C" __global__ void psc_set_append(StateSet s, const u64* children, const
     u32 rank = __popc(ballot & ((1u << lane) - 1));
     for (u32 w = 0; w < warp; ++w) rank += warpCounts[w];
     const u64 index = static_cast<u64>(counters->base) + blockOffsets[blockIdx.x] + rank;
-    if (index >= s.capacity) {
+    if (index >= s.capacity || index - s.nextBase >= s.nextCapacity) {
         atomicAdd(&counters->overflow, 1u);
         return;
     }
     const u64* key = children + static_cast<u64>(child) * s.words;
-    u64* to = s.keys + index * s.words;
+    u64* to = s.nextKeys + (index - s.nextBase) * s.words;
     for (u32 i = 0; i < s.words; ++i) to[i] = key[i];
-    s.parents[index] = firstParent + child / inputCount;
-    s.inputs[index] = static_cast<unsigned char>(child % inputCount);
-    s.hashes[index] = hashes[child];
+    u64* print = printAt(s, static_cast<u32>(index));
+    print[0] = childPrints[2 * static_cast<u64>(child)];
+    print[1] = childPrints[2 * static_cast<u64>(child) + 1];
+    recordParent(s, static_cast<u32>(index), firstParent + child / inputCount, static_cast<unsigned char>(child % inputCount));
     s.table[slotOf[child]] = static_cast<u32>(index);
+}
+
+// The first state, whose key the host put in the window (index 0): its print, and no parent.
+extern "C" __global__ void psc_set_add_root(StateSet s, u64 hash) {
+    printOf(s.nextKeys, hash, s.words, printAt(s, 0));
+    recordParent(s, 0, 0xffffffffu, 0);  // StateStore::kNoParent
 }
 
 // The stored states [0, size) entered into an empty table (a grown one, or the first state).
 extern "C" __global__ void psc_set_rehash(StateSet s, u32 size) {
     const u32 i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= size) return;
-    for (u32 slot = slotOfHash(s.hashes[i], s.tableBits);; slot = (slot + 1) & s.tableMask) {
+    for (u32 slot = slotOfPrint(printAt(s, i), s.tableBits);; slot = (slot + 1) & s.tableMask) {
         if (atomicCAS(s.table + slot, PSC_EMPTY, i) == PSC_EMPTY) return;
     }
 }

@@ -15,9 +15,10 @@
 #   expand    search's batched expansion on the GPU (psc bench --expand), every benchmark game's
 #             level 0 and sokoban's level 1, batch sweep
 #   search    breadth-first with its states on the GPU against the host's (tests/search/device_search_test.py,
-#             SEARCH_SECONDS a level, default 20), then one breadth-first search of each of SCALE_LEVELS
-#             (game:level, default notsnake:0 zenpuzzle:0 limerick:6 atlas:8) for SCALE_SECONDS (default 60),
-#             its JSON record and progress lines kept: the whole search's rate and its largest store
+#             SEARCH_SECONDS a level, default 20)
+#   scale     one breadth-first search on the GPU of each of SCALE_LEVELS (game:level, default notsnake:0
+#             zenpuzzle:0 limerick:6 atlas:8) for SCALE_SECONDS (default 60), its JSON record and progress
+#             lines kept: the whole search's rate and its largest store
 #   solve     psc solve --backend cuda over every level of the benchmark games (bench/solve_report.py),
 #             SOLVE_ALGORITHM (default portfolio), SOLVE_SECONDS a level (default 60), SOLVE_JOBS games at once,
 #             SOLVE_PER_LEVEL=1 a psc solve (and plugin) per level
@@ -170,12 +171,16 @@ for stage in "$@"; do
         $python tests/search/device_search_test.py "$psc" "${SEARCH_SECONDS:-20}" > "$out/device_search_test.txt" 2>&1
         echo "device_search_test: exit $?, $(tail -1 "$out/device_search_test.txt")"
         grep FAIL "$out/device_search_test.txt" | head -20
+        ;;
+    scale)
         mkdir -p "$out/scale"
         for spec in ${SCALE_LEVELS:-notsnake:0 zenpuzzle:0 limerick:6 atlas:8}; do
             name=${spec%:*}
             level=${spec#*:}
             "$psc" solve "bench/games/$name.txt" --level "$level" --backend cuda --algorithm bfs \
                 --time-limit "${SCALE_SECONDS:-60}" --format json > "$out/scale/$name.L$level.json" 2> "$out/scale/$name.L$level.progress"
+            tr '\r' '\n' < "$out/scale/$name.L$level.progress" | grep -v '^$' > "$out/scale/$name.L$level.lines"
+            mv "$out/scale/$name.L$level.lines" "$out/scale/$name.L$level.progress"
             echo "$name level $level: $(cat "$out/scale/$name.L$level.json") $(tail -1 "$out/scale/$name.L$level.progress")"
         done
         ;;

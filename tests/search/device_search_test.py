@@ -79,5 +79,15 @@ code, records, err = solve(REPO / "bench/games/atlas.txt", "cuda", "--level", "9
 check(code == 1 and records and records[0]["status"] == "limit" and records[0]["limit"] == "time",
       f"atlas level 9 --time-limit 2: a time limit ({records} {err})")
 
+# An expansion on the GPU stops at the search's deadline: deadline.txt's one
+# chain of 10,000 again turns takes one GPU thread about 40 s on an H100
+# (0.2 s on a CPU core), so a search limited to 2 s must stop inside it, soon
+# after 2 s.  (A GPU fast enough to finish the chain would exhaust the level
+# instead, and fail here: then the level needs to be larger.)
+code, records, err = solve(REPO / "tests/search/games/deadline.txt", "cuda", "--time-limit", "2")
+check(code == 1 and records and records[0].get("limit") == "time" and records[0]["seconds"] < 3,
+      f"deadline.txt on the GPU at 2 s: stopped inside the chain ({records} {err})")
+print(f"  deadline.txt at 2 s: stopped after {records[0]['seconds'] if records else '-'} s", flush=True)
+
 print(f"{checks - len(failures)} of {checks} checks passed")
 sys.exit(1 if failures else 0)

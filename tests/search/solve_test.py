@@ -163,6 +163,17 @@ for args, limit in [(["--max-states", "50"], "states"), (["--max-memory", "1"], 
     check(code == 1 and records and records[0]["status"] == "limit" and records[0].get("limit") == limit,
           f"limit {limit}: {code} {records}")
 
+# An expansion stops at the search's deadline, not after it: deadline.txt's
+# one chain of 10,000 again turns is nearly all of its search's time, so at a
+# tenth of that time the search must stop inside the chain.
+code, records, err = solve(GAMES / "deadline.txt", "--time-limit", "60")
+check(code == 1 and records and records[0]["status"] == "exhausted", f"deadline.txt: exhausted ({records} {err.strip()})")
+if records:
+    whole = records[0]["seconds"]
+    code, records, err = solve(GAMES / "deadline.txt", "--time-limit", f"{whole / 10:.4f}")
+    check(code == 1 and records and records[0].get("limit") == "time" and records[0]["seconds"] < whole / 2,
+          f"deadline.txt at a tenth of its {whole:.3f} s: stopped inside the chain ({records} {err.strip()})")
+
 # Bad arguments: a clear message and exit 2.
 for args, message in [
     ([str(sokoban), "--algorithm", "dfs"], "dfs"),

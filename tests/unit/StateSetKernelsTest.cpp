@@ -19,7 +19,8 @@ TEST_CASE("search's state-set kernels compile with NVRTC", "[cuda][search]") {
     REQUIRE(r.ok);
     CHECK_FALSE(r.cubin.empty());
     REQUIRE(r.ptx.size() == 1);
-    for (const char* kernel : {"psc_set_insert", "psc_set_count", "psc_set_scan", "psc_set_append", "psc_set_rehash"}) {
+    for (const char* kernel : {"psc_set_insert", "psc_set_count", "psc_set_scan", "psc_set_append", "psc_set_rehash",
+                               "psc_set_add_root"}) {
         CHECK(r.ptx[0].find(std::string(".entry ") + kernel) != std::string::npos);
     }
 }
