@@ -547,8 +547,18 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
     out.open("PSC_DEVICE PSC_TURN void " + fn + "(Env& e, Turn& t)");
     out.line("(void)e;");
     out.line("(void)t;");
+    const int objects = std::max(1, g.objectCount);
+    const int presenceWords = (objects + 5 * std::max(1, g.layerCount) + 63) / 64;
     auto call = [&](size_t i) {
         std::string c = groupName(groups[i], i, late) + "(e, t)";
+        // Not called while a board that all its rules need is empty.
+        const std::vector<uint64_t> needs = groupNeededPresence(g, groups[i], presenceWords);
+        std::string guard;
+        for (int bit = 0; bit < 64 * presenceWords; ++bit) {
+            if (!((needs[static_cast<size_t>(bit / 64)] >> (bit % 64)) & 1)) continue;
+            guard += bit < objects ? fmt::format("e.obj[{}].any() && ", bit) : fmt::format("e.mov[{}].any() && ", bit - objects);
+        }
+        if (!guard.empty()) c = "(PSC_GROUP_NEEDS(" + guard.substr(0, guard.size() - 4) + ") && " + c + ")";
         if (!late) {
             auto it = g.groupIndexToRigidGroupIndex.find(static_cast<int>(i));
             if (it != g.groupIndexToRigidGroupIndex.end()) {

@@ -122,4 +122,27 @@ std::string groupName(const ir::RuleGroup& group, size_t index, bool late) {
     return fmt::format("{}group_{}_L{}", late ? "late_" : "", index, group.groupNumber);
 }
 
+std::vector<uint64_t> neededPresence(const ir::Game& game, const ir::Rule& rule, int words) {
+    const int objects = std::max(1, game.objectCount);
+    std::vector<uint64_t> mask(static_cast<size_t>(words), 0);
+    auto need = [&](int bit) { mask[static_cast<size_t>(bit / 64)] |= uint64_t{1} << (bit % 64); };
+    for (const auto& row : rule.rows) {
+        for (const auto& c : row) {
+            if (c.ellipsis) continue;
+            c.present.forEach([&](size_t id) { need(static_cast<int>(id)); });
+            c.movementsPresent.forEach([&](size_t bit) { need(objects + static_cast<int>(bit)); });
+        }
+    }
+    return mask;
+}
+
+std::vector<uint64_t> groupNeededPresence(const ir::Game& game, const ir::RuleGroup& group, int words) {
+    std::vector<uint64_t> common(static_cast<size_t>(words), group.rules.empty() ? 0 : ~uint64_t{0});
+    for (const auto& rule : group.rules) {
+        const std::vector<uint64_t> needs = neededPresence(game, rule, words);
+        for (size_t w = 0; w < needs.size(); ++w) common[w] &= needs[w];
+    }
+    return common;
+}
+
 }  // namespace psc::codegen

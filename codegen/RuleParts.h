@@ -89,4 +89,12 @@ int messageIndex(const ir::Rule& rule, const std::vector<std::string>& messages)
 // The name of a group's function.
 std::string groupName(const ir::RuleGroup& group, size_t index, bool late);
 
+// The boards a rule's every match needs non-empty, as presence bits (object
+// id, or the object count + the movement board's index; `words` 64-bit
+// words): those of its cells' single-board terms.  While one is empty the
+// rule cannot match, and its rows' boards need not be built.
+std::vector<uint64_t> neededPresence(const ir::Game& game, const ir::Rule& rule, int words);
+// The boards every rule of a group needs: while one is empty the group changes nothing.
+std::vector<uint64_t> groupNeededPresence(const ir::Game& game, const ir::RuleGroup& group, int words);
+
 }  // namespace psc::codegen

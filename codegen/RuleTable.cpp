@@ -156,25 +156,6 @@ std::string numbers(std::vector<int>::const_iterator begin, std::vector<int>::co
     return out;
 }
 
-// The boards a match needs somewhere, as templates/rule_table.h's presence
-// bits (object id, or kObjects + movement bit), kTablePresenceWords words:
-// those of the rule's cells' single-board terms.  While one of them is empty
-// the interpreter skips the rule without building its rows' boards, which is
-// most of what a table step costs.
-std::vector<uint64_t> neededPresence(const Game& g, const Rule& rule, int words) {
-    const int objects = std::max(1, g.objectCount);
-    std::vector<uint64_t> mask(static_cast<size_t>(words), 0);
-    auto need = [&](int bit) { mask[static_cast<size_t>(bit / 64)] |= uint64_t{1} << (bit % 64); };
-    for (const auto& row : rule.rows) {
-        for (const auto& c : row) {
-            if (c.ellipsis) continue;
-            c.present.forEach([&](size_t id) { need(static_cast<int>(id)); });
-            c.movementsPresent.forEach([&](size_t bit) { need(objects + static_cast<int>(bit)); });
-        }
-    }
-    return mask;
-}
-
 std::string hexWords(const std::vector<uint64_t>& words) {
     std::string out;
     for (size_t i = 0; i < words.size(); ++i) out += fmt::format("{}0x{:x}ull", i ? ", " : "", words[i]);
@@ -238,13 +219,8 @@ void emitRuleTableData(CodeWriter& out, const Game& game) {
     std::vector<std::vector<uint64_t>> groupNeeds[2];
     for (const bool late : {false, true}) {
         for (const auto& group : late ? game.lateRules : game.rules) {
-            std::vector<uint64_t> common(static_cast<size_t>(presenceWords), group.rules.empty() ? 0 : ~uint64_t{0});
-            for (const auto& rule : group.rules) {
-                const std::vector<uint64_t> needs = neededPresence(game, rule, presenceWords);
-                for (size_t w = 0; w < needs.size(); ++w) common[w] &= needs[w];
-                out.line("    " + hexWords(needs) + ",");
-            }
-            groupNeeds[late ? 1 : 0].push_back(common);
+            for (const auto& rule : group.rules) out.line("    " + hexWords(neededPresence(game, rule, presenceWords)) + ",");
+            groupNeeds[late ? 1 : 0].push_back(groupNeededPresence(game, group, presenceWords));
         }
     }
     if (ruleOffsets.empty()) out.line("    0");
