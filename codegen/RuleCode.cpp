@@ -292,7 +292,23 @@ struct RuleNames {
     std::string apply;  // tryApply
     std::string count;  // number of candidate matches (random groups)
     std::string nth;    // apply the n-th candidate (random groups)
+    std::string needs;  // whether the boards it needs hold something (presenceTest), or empty
 };
+
+// Whether every board of `needs` (presence bits: RuleParts' neededPresence)
+// holds something, as a C++ condition over Env e; empty where none is needed.
+std::string presenceTest(const Game& g, const std::vector<uint64_t>& needs) {
+    const int objects = std::max(1, g.objectCount);
+    std::string test;
+    for (int bit = 0; bit < 64 * static_cast<int>(needs.size()); ++bit) {
+        if (!((needs[static_cast<size_t>(bit / 64)] >> (bit % 64)) & 1)) continue;
+        if (!test.empty()) test += " && ";
+        test += bit < objects ? fmt::format("e.obj[{}].any()", bit) : fmt::format("e.mov[{}].any()", bit - objects);
+    }
+    return test;
+}
+
+int presenceWords(const Game& g) { return (std::max(1, g.objectCount) + 5 * std::max(1, g.layerCount) + 63) / 64; }
 
 // Emits the nested loops over all rows (last row outermost, so that row 0
 // varies fastest) around `action`.
@@ -405,7 +421,10 @@ void emitGroupFunction(CodeWriter& out, const ir::RuleGroup& group, size_t index
         out.line("bool changed = false;");
         out.open("for (int pass = 0; pass < 200; ++pass)");
         out.line("bool any = false;");
-        for (const auto& n : names) out.line("any |= " + n.apply + "(e, t);");
+        for (const auto& n : names) {
+            const std::string call = n.apply + "(e, t)";
+            out.line("any |= " + (n.needs.empty() ? call : "(PSC_RULE_NEEDS(" + n.needs + ") && " + call + ")") + ";");
+        }
         out.line("if (!any) break;");
         out.line("changed = true;");
         out.close();
@@ -470,7 +489,7 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
     size_t bytes = 0;
     for (const auto& rule : group.rules) {
         std::string base = uniqueIdentifier(ruleIdentifier(g, rule, late), used);
-        names.push_back({base, base + "_count", base + "_apply_nth"});
+        names.push_back({base, base + "_count", base + "_apply_nth", presenceTest(g, neededPresence(g, rule, presenceWords(g)))});
         CodeWriter code(indent);
         emitRule(code, g, rule, names.back(), group.random, messages, kind);
         const RuleNames& n = names.back();
@@ -547,18 +566,11 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
     out.open("PSC_DEVICE PSC_TURN void " + fn + "(Env& e, Turn& t)");
     out.line("(void)e;");
     out.line("(void)t;");
-    const int objects = std::max(1, g.objectCount);
-    const int presenceWords = (objects + 5 * std::max(1, g.layerCount) + 63) / 64;
     auto call = [&](size_t i) {
         std::string c = groupName(groups[i], i, late) + "(e, t)";
         // Not called while a board that all its rules need is empty.
-        const std::vector<uint64_t> needs = groupNeededPresence(g, groups[i], presenceWords);
-        std::string guard;
-        for (int bit = 0; bit < 64 * presenceWords; ++bit) {
-            if (!((needs[static_cast<size_t>(bit / 64)] >> (bit % 64)) & 1)) continue;
-            guard += bit < objects ? fmt::format("e.obj[{}].any() && ", bit) : fmt::format("e.mov[{}].any() && ", bit - objects);
-        }
-        if (!guard.empty()) c = "(PSC_GROUP_NEEDS(" + guard.substr(0, guard.size() - 4) + ") && " + c + ")";
+        const std::string needs = presenceTest(g, groupNeededPresence(g, groups[i], presenceWords(g)));
+        if (!needs.empty()) c = "(PSC_GROUP_NEEDS(" + needs + ") && " + c + ")";
         if (!late) {
             auto it = g.groupIndexToRigidGroupIndex.find(static_cast<int>(i));
             if (it != g.groupIndexToRigidGroupIndex.end()) {

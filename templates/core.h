@@ -150,6 +150,14 @@
 #else
 #define PSC_GROUP_NEEDS(present) (present)
 #endif
+// Likewise a group calls each of its rules only while the boards that rule
+// needs hold something, where rules are out of line (the memory layout; the
+// CPU decides for itself).
+#if (defined(__CUDACC__) || defined(__CUDACC_RTC__)) && (PSC_STATE_IN_REGISTERS || PSC_GROUP_COPIES_STATE)
+#define PSC_RULE_NEEDS(present) true
+#else
+#define PSC_RULE_NEEDS(present) (present)
+#endif
 
 namespace psc_game {
 

@@ -33,9 +33,9 @@ def units_of(source):
 
 
 def calls(body_start, source):
-    """The functions a group body calls with `any |= f(e, t);`, up to its `return`."""
+    """The functions a group body calls with `any |= f(e, t);` (or `any |= (PSC_RULE_NEEDS(...) && f(e, t));`), up to its `return`."""
     end = source.index("\n    }\n", body_start)
-    return re.findall(r"any \|= (\w+)\(e, t\);", source[body_start:end])
+    return re.findall(r"any \|= (?:\(PSC_RULE_NEEDS\(.*?\) && )?(\w+)\(e, t\)\)?;", source[body_start:end])
 
 
 def emit(psc, game, *options, env=None):
