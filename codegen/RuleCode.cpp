@@ -308,8 +308,6 @@ std::string presenceTest(const Game& g, const std::vector<uint64_t>& needs) {
     return test;
 }
 
-int presenceWords(const Game& g) { return (std::max(1, g.objectCount) + 5 * std::max(1, g.layerCount) + 63) / 64; }
-
 // Emits the nested loops over all rows (last row outermost, so that row 0
 // varies fastest) around `action`.
 template <typename Action>
@@ -534,7 +532,7 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
             piece.text += code.text();
             piece.declarations.push_back(groupDeclaration(part));
             add(std::move(piece), true);
-            parts.push_back({part, "", ""});
+            parts.push_back({part, "", "", ""});
             first = last;
         }
         CodeWriter code(indent);

@@ -122,6 +122,10 @@ std::string groupName(const ir::RuleGroup& group, size_t index, bool late) {
     return fmt::format("{}group_{}_L{}", late ? "late_" : "", index, group.groupNumber);
 }
 
+int presenceWords(const ir::Game& game) {
+    return (std::max(1, game.objectCount) + 5 * std::max(1, game.layerCount) + 63) / 64;
+}
+
 std::vector<uint64_t> neededPresence(const ir::Game& game, const ir::Rule& rule, int words) {
     const int objects = std::max(1, game.objectCount);
     std::vector<uint64_t> mask(static_cast<size_t>(words), 0);

@@ -93,6 +93,8 @@ std::string groupName(const ir::RuleGroup& group, size_t index, bool late);
 // id, or the object count + the movement board's index; `words` 64-bit
 // words): those of its cells' single-board terms.  While one is empty the
 // rule cannot match, and its rows' boards need not be built.
+// The 64-bit words of a game's presence bits: its objects, then 5 movement boards a layer.
+int presenceWords(const ir::Game& game);
 std::vector<uint64_t> neededPresence(const ir::Game& game, const ir::Rule& rule, int words);
 // The boards every rule of a group needs: while one is empty the group changes nothing.
 std::vector<uint64_t> groupNeededPresence(const ir::Game& game, const ir::RuleGroup& group, int words);

@@ -212,15 +212,15 @@ void emitRuleTableData(CodeWriter& out, const Game& game) {
     out.line("};");
     // Presence masks: each rule's needed boards (kRuleIndex order), and the
     // boards every rule of a group needs (the group is skipped while one is empty).
-    const int presenceWords = (std::max(1, game.objectCount) + 5 * std::max(1, game.layerCount) + 63) / 64;
-    out.line(fmt::format("constexpr int kTablePresenceWords = {};", presenceWords));
+    const int words = presenceWords(game);
+    out.line(fmt::format("constexpr int kTablePresenceWords = {};", words));
     out.line("// The presence bits of the boards each rule's every match needs, kTablePresenceWords a rule (kRuleIndex order).");
     out.line("PSC_TABLE u64 kRuleNeeds[] = {");
     std::vector<std::vector<uint64_t>> groupNeeds[2];
     for (const bool late : {false, true}) {
         for (const auto& group : late ? game.lateRules : game.rules) {
-            for (const auto& rule : group.rules) out.line("    " + hexWords(neededPresence(game, rule, presenceWords)) + ",");
-            groupNeeds[late ? 1 : 0].push_back(groupNeededPresence(game, group, presenceWords));
+            for (const auto& rule : group.rules) out.line("    " + hexWords(neededPresence(game, rule, words)) + ",");
+            groupNeeds[late ? 1 : 0].push_back(groupNeededPresence(game, group, words));
         }
     }
     if (ruleOffsets.empty()) out.line("    0");

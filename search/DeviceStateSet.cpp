@@ -47,6 +47,15 @@ constexpr size_t kMaxCapacity = (size_t{1} << 31) - 1;
 constexpr int kFirstChunkBits = 16;  // PSC_FIRST_CHUNK_BITS
 constexpr size_t kMaxChunks = 32 - kFirstChunkBits;
 
+// The largest size from `most` down to `least`, in steps of a sixteenth,
+// for which `fits` holds; 0 when none does.
+template <typename Fits>
+size_t largestFitting(size_t most, size_t least, Fits fits) {
+    size_t n = most;
+    while (n > least && !fits(n)) n = std::max(least, n - std::max<size_t>(n / 16, 1));
+    return fits(n) ? n : 0;
+}
+
 // Chunk c's first state and nominal size.
 size_t chunkStart(size_t c) { return (size_t{1} << (kFirstChunkBits + c)) - (size_t{1} << kFirstChunkBits); }
 size_t chunkSize(size_t c) { return size_t{1} << (kFirstChunkBits + c); }
@@ -198,8 +207,8 @@ void DeviceStateSet::launch(CuFunction f, size_t threads, unsigned block, void**
 // A store of at least `minimum` states (and `wanted` if memory allows):
 // chunks added, the last one cut to what memory holds, and the table rebuilt
 // for the new capacity.  The chunks already filled stay where they are.
-bool DeviceStateSet::grow(size_t wanted, size_t minimum) {
-    if (minimum > kMaxCapacity) return false;
+void DeviceStateSet::grow(size_t wanted, size_t minimum) {
+    if (minimum > kMaxCapacity) return;
     wanted = std::min(std::max(wanted, minimum), kMaxCapacity);
     const size_t oldTable = capacity_ ? size_t{4} << tableBits_ : 0;
     // Memory for `more` states in a new chunk; the old table is freed before the new one is made.
@@ -211,10 +220,9 @@ bool DeviceStateSet::grow(size_t wanted, size_t minimum) {
     while (capacity_ < wanted && !lastChunk_ && chunks_.size() < 3 * kMaxChunks) {
         const size_t c = chunks_.size() / 3;
         const size_t least = minimum > capacity_ ? minimum - capacity_ : 1;
-        size_t states = std::min(chunkSize(c), kMaxCapacity - chunkStart(c));
         // Where the whole chunk does not fit, as much of it as does: the last chunk.
-        while (states > least && !fits(states)) states = std::max(least, states - std::max<size_t>(states / 16, 1));
-        if (!fits(states)) break;
+        const size_t states = largestFitting(std::min(chunkSize(c), kMaxCapacity - chunkStart(c)), least, fits);
+        if (states == 0) break;
         CuDevicePtr parts[3] = {0, 0, 0};
         const size_t bytes[3] = {states * 16, states * 4, states};
         bool allocated = true;
@@ -232,11 +240,10 @@ bool DeviceStateSet::grow(size_t wanted, size_t minimum) {
         lastChunk_ = states < chunkSize(c);
     }
     if (capacity_ != before && (!table_ || tableBitsFor(capacity_) != tableBits_)) rebuildTable(tableBitsFor(capacity_));
-    return capacity_ >= minimum;
 }
 
 // The table made anew with 2^bits slots, the stored states entered.
-bool DeviceStateSet::rebuildTable(int bits) {
+void DeviceStateSet::rebuildTable(int bits) {
     CudaContextScope scope(context_);
     check(d_.cuStreamSynchronize(stream_), "waiting for the device");
     if (table_) check(d_.cuMemFree(table_), "freeing device memory");
@@ -252,7 +259,6 @@ bool DeviceStateSet::rebuildTable(int bits) {
     check(d_.cuMemsetD32Async(table_, 0xffffffffu, size_t{1} << tableBits_, stream_), "clearing the table");
     rehash(size_);
     check(d_.cuStreamSynchronize(stream_), "rebuilding search's table");
-    return tableBits_ == bits;
 }
 
 // A window for the layer being built of at least `minimum` keys (and
@@ -260,9 +266,9 @@ bool DeviceStateSet::rebuildTable(int bits) {
 bool DeviceStateSet::growWindow(size_t wanted, size_t minimum) {
     const size_t held = bytes();  // the old window lives until copied
     minimum = std::max(minimum, nextCapacity_ + 1);
-    size_t target = std::min(std::max(wanted, nextCapacity_ * 2), kMaxCapacity);
-    while (target > minimum && held + windowBytes(target) > memoryLimit_) target = std::max(minimum, target - std::max<size_t>(target / 8, 1));
-    if (target < minimum || held + windowBytes(target) > memoryLimit_) return false;
+    const size_t target = largestFitting(std::min(std::max(wanted, nextCapacity_ * 2), kMaxCapacity), minimum,
+                                         [&](size_t keys) { return held + windowBytes(keys) <= memoryLimit_; });
+    if (target < minimum) return false;
 
     CudaContextScope scope(context_);
     check(d_.cuStreamSynchronize(stream_), "waiting for the device");

@@ -77,8 +77,8 @@ private:
     void launch(CuFunction f, size_t threads, unsigned block, void** args);
     KernelArgs kernelArgs() const;
     void rehash(size_t count);
-    bool grow(size_t wanted, size_t minimum);
-    bool rebuildTable(int bits);
+    void grow(size_t wanted, size_t minimum);
+    void rebuildTable(int bits);
     bool growWindow(size_t wanted, size_t minimum);
     size_t windowBytes(size_t states) const { return states * words_ * 8; }
 
