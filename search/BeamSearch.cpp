@@ -1,12 +1,14 @@
 // Beam search: breadth-first, but each layer keeps only the `width` new
 // states with the smallest win-condition estimate (ties to the earlier
-// child).  It reaches depths breadth-first cannot hold in memory (atlas'
+// child), in the order they were reached (as the GPU's beam, which keeps its
+// states on the device, DeviceBreadthFirst.cpp, finds them).  It reaches depths breadth-first cannot hold in memory (atlas'
 // solutions run to hundreds of inputs) at the price of completeness: a level
 // whose beam empties after dropping states is a `beam` limit, not exhausted.
 // Dropped states are not remembered, so a later layer may reach and keep one.
 #include <algorithm>
 #include <numeric>
 #include <stdexcept>
+#include <utility>
 
 #include "SearchRun.h"
 
@@ -28,6 +30,7 @@ SolveResult beamSearch(SearchRun& run, size_t width) {
     std::vector<uint8_t> childInputs;
     std::vector<int32_t> estimates;
     std::vector<uint32_t> order;
+    std::vector<std::pair<uint32_t, uint32_t>> kept;  // candidate, state
     bool dropped = false;
     for (uint32_t depth = 0; !layer.empty(); ++depth) {
         keys.clear();
@@ -55,15 +58,18 @@ SolveResult beamSearch(SearchRun& run, size_t width) {
         order.resize(hashes.size());
         std::iota(order.begin(), order.end(), 0u);
         std::stable_sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) { return estimates[x] < estimates[y]; });
-        next.clear();
+        kept.clear();
         size_t taken = 0;
-        for (; taken < order.size() && next.size() < width; ++taken) {
+        for (; taken < order.size() && kept.size() < width; ++taken) {
             const uint32_t i = order[taken];
             uint32_t child = 0;
             const StateStore::Insert r = run.add(&keys[size_t{i} * words], hashes[i], parents[i], childInputs[i], depth + 1, &child);
             if (r == StateStore::Insert::Full) return run.finish(Status::Limit);
-            if (r == StateStore::Insert::Added) next.push_back(child);
+            if (r == StateStore::Insert::Added) kept.emplace_back(i, child);
         }
+        std::sort(kept.begin(), kept.end());
+        next.clear();
+        for (const auto& [candidate, child] : kept) next.push_back(child);
         // Children left over that are copies of kept ones were not dropped.
         for (size_t k = taken; k < order.size() && !dropped; ++k) {
             dropped = !run.store.contains(&keys[size_t{order[k]} * words], hashes[order[k]]);

@@ -20,7 +20,7 @@ const std::string& stateSetKernelSource();  // state_set_kernels.cu, embedded at
 
 // state_set_kernels.cu's StateSet, byte for byte.
 struct DeviceStateSet::KernelArgs {
-    CuDevicePtr chunks, table, nextKeys;
+    CuDevicePtr chunks, table, nextKeys, nextEstimates, layerStates;
     uint32_t tableMask, tableBits, words, capacity, nextBase, nextCapacity;
 };
 
@@ -40,6 +40,8 @@ struct Counters {
 
 constexpr unsigned kCountBlock = 1024;  // PSC_BLOCK
 constexpr unsigned kBlock = 256;
+constexpr uint32_t kBins = 65536;           // PSC_BINS
+constexpr uint32_t kAllEstimates = 0xffffffffu;  // PSC_EMPTY: psc_beam_count counts ties
 constexpr uint64_t kNoWin = ~uint64_t{0};
 constexpr size_t kStateBytes = 16 + 4 + 1;  // print, parent, input
 // State indices stay below the kernels' candidate bit.
@@ -105,8 +107,8 @@ void DeviceStateSet::check(CuResult result, const char* what) const {
     if (result) throw std::runtime_error(cudaErrorText(result, what));
 }
 
-DeviceStateSet::DeviceStateSet(StateSpace& space, size_t memoryLimit)
-    : space_(space), d_(driverOrThrow()), words_(space.keyWords()) {
+DeviceStateSet::DeviceStateSet(StateSpace& space, size_t memoryLimit, bool withEstimates)
+    : space_(space), d_(driverOrThrow()), withEstimates_(withEstimates), words_(space.keyWords()) {
     try {
         acquire(memoryLimit);
     } catch (...) {
@@ -127,7 +129,10 @@ void DeviceStateSet::acquire(size_t memoryLimit) {
                                                           {&scan_, "psc_set_scan"},
                                                           {&append_, "psc_set_append"},
                                                           {&rehash_, "psc_set_rehash"},
-                                                          {&addRoot_, "psc_set_add_root"}};
+                                                          {&addRoot_, "psc_set_add_root"},
+                                                          {&histogram_, "psc_beam_histogram"},
+                                                          {&cutCount_, "psc_beam_count"},
+                                                          {&pack_, "psc_beam_pack"}};
     for (const auto& [f, name] : kernels) check(d_.cuModuleGetFunction(f, module_, name), name);
     check(d_.cuStreamCreate(&stream_, 0), "creating a CUDA stream");
     space_.setStream(stream_);
@@ -139,6 +144,7 @@ void DeviceStateSet::acquire(size_t memoryLimit) {
     check(d_.cuMemAlloc(&blockCounts_, std::max<size_t>(blocks, 1) * 4), "allocating device memory for search");
     check(d_.cuMemAlloc(&counters_, sizeof(Counters)), "allocating device memory for search");
     check(d_.cuMemAlloc(&chunkTable_, 3 * kMaxChunks * sizeof(CuDevicePtr)), "allocating device memory for search");
+    if (withEstimates_) check(d_.cuMemAlloc(&bins_, kBins * 4), "allocating device memory for search");
     const Counters start{kNoWin, 0, 0, 0, 0, 0};
     check(d_.cuMemcpyHtoD(counters_, &start, sizeof start), "clearing search's counters");
 
@@ -164,7 +170,8 @@ void DeviceStateSet::release() {
         }
     }
     for (CuDevicePtr p : chunks_) d_.cuMemFree(p);
-    for (CuDevicePtr p : {chunkTable_, table_, layerKeys_, nextKeys_, slotOf_, childPrints_, blockCounts_, counters_}) {
+    for (CuDevicePtr p : {chunkTable_, table_, layerKeys_, nextKeys_, slotOf_, childPrints_, blockCounts_, counters_,
+                          layerStates_, bins_, cutCounts_}) {
         if (p) d_.cuMemFree(p);
     }
     if (module_) d_.cuModuleUnload(module_);
@@ -174,13 +181,20 @@ void DeviceStateSet::release() {
 
 size_t DeviceStateSet::bytes() const {
     return capacity_ * kStateBytes + (capacity_ ? size_t{4} << tableBits_ : 0) +
-           windowBytes(layerCapacity_ + nextCapacity_);
+           windowBytes(layerCapacity_ + nextCapacity_) + (layerStatesCapacity_ + cutCountsCapacity_) * 4 +
+           (bins_ ? kBins * 4 : 0);
+}
+
+CuDevicePtr DeviceStateSet::nextEstimates() const {
+    return withEstimates_ && nextKeys_ ? nextKeys_ + nextCapacity_ * words_ * 8 : 0;
 }
 
 DeviceStateSet::KernelArgs DeviceStateSet::kernelArgs() const {
     return KernelArgs{chunkTable_,
                       table_,
                       nextKeys_,
+                      nextEstimates(),
+                      layerCut_ ? layerStates_ : 0,
                       static_cast<uint32_t>((size_t{1} << tableBits_) - 1),
                       static_cast<uint32_t>(tableBits_),
                       static_cast<uint32_t>(words_),
@@ -277,7 +291,13 @@ bool DeviceStateSet::growWindow(size_t wanted, size_t minimum) {
         memoryLimit_ = 0;  // as in grow(): the driver's memory ran out first
         return false;
     }
-    if (size_ > nextBase_) check(d_.cuMemcpyDtoD(keys, nextKeys_, windowBytes(size_ - nextBase_)), "copying the layer's keys");
+    if (size_ > nextBase_) {
+        check(d_.cuMemcpyDtoD(keys, nextKeys_, (size_ - nextBase_) * words_ * 8), "copying the layer's keys");
+        if (withEstimates_) {
+            check(d_.cuMemcpyDtoD(keys + target * words_ * 8, nextEstimates(), (size_ - nextBase_) * 4),
+                  "copying the layer's estimates");
+        }
+    }
     if (nextKeys_) check(d_.cuMemFree(nextKeys_), "freeing device memory");
     nextKeys_ = keys;
     nextCapacity_ = target;
@@ -300,11 +320,124 @@ bool DeviceStateSet::addRoot() {
     return true;
 }
 
-void DeviceStateSet::beginLayer() {
+bool DeviceStateSet::beginLayer(size_t width) {
+    const size_t built = size_ - nextBase_;
+    if (width && withEstimates_ && built > width) return cut(width);
     std::swap(layerKeys_, nextKeys_);
     std::swap(layerCapacity_, nextCapacity_);
     layerBase_ = nextBase_;
     nextBase_ = size_;
+    layerSize_ = built;
+    layerCut_ = false;
+    return true;
+}
+
+// The layer just built, cut to its `width` best states (beginLayer), which
+// become the layer: keys packed into the layer window, store indices beside.
+bool DeviceStateSet::cut(size_t width) {
+    uint32_t count = static_cast<uint32_t>(size_ - nextBase_);
+    uint32_t ties = 0;
+    uint32_t best = threshold(count, width, &ties);
+    uint32_t end = tieEnd(count, best, ties);
+
+    CudaContextScope scope(context_);
+    check(d_.cuStreamSynchronize(stream_), "waiting for the device");
+    // The old layer's window and indices go before the new ones are made
+    // (tieEnd made the per-block counts' room).
+    const size_t blocks = (count + kCountBlock - 1) / kCountBlock;
+    if (layerCapacity_ < width) {
+        if (layerKeys_) check(d_.cuMemFree(layerKeys_), "freeing device memory");
+        layerKeys_ = 0;
+        layerCapacity_ = 0;
+    }
+    if (layerStatesCapacity_ < width) {
+        if (layerStates_) check(d_.cuMemFree(layerStates_), "freeing device memory");
+        layerStates_ = 0;
+        layerStatesCapacity_ = 0;
+    }
+    const size_t more = (layerCapacity_ ? 0 : windowBytes(width)) + (layerStatesCapacity_ ? 0 : width * 4);
+    if (bytes() + more > memoryLimit_) return false;
+    if (!layerKeys_) {
+        if (d_.cuMemAlloc(&layerKeys_, windowBytes(width))) return false;
+        layerCapacity_ = width;
+    }
+    if (!layerStates_) {
+        if (d_.cuMemAlloc(&layerStates_, width * 4)) return false;
+        layerStatesCapacity_ = width;
+    }
+
+    KernelArgs s = kernelArgs();
+    CuDevicePtr estimates = nextEstimates();
+    CuDevicePtr noCounters = 0;
+    uint32_t blockCount = static_cast<uint32_t>(blocks);
+    void* countArgs[] = {&estimates, &count, &best, &end, &cutCounts_};
+    launch(cutCount_, blocks * kCountBlock, kCountBlock, countArgs);
+    void* scanArgs[] = {&cutCounts_, &blockCount, &noCounters};
+    launch(scan_, kCountBlock, kCountBlock, scanArgs);
+    void* packArgs[] = {&s, &count, &best, &end, &cutCounts_, &layerKeys_, &layerStates_};
+    launch(pack_, blocks * kCountBlock, kCountBlock, packArgs);
+    check(d_.cuStreamSynchronize(stream_), "cutting a beam layer");
+    dropped_ += count - width;
+    layerSize_ = width;
+    layerCut_ = true;
+    layerBase_ = nextBase_;
+    nextBase_ = size_;
+    return true;
+}
+
+// The estimate `width` states of the `count` just built reach (the width-th
+// smallest), and in *ties how many of those with exactly it are kept.
+uint32_t DeviceStateSet::threshold(uint32_t count, size_t width, uint32_t* ties) {
+    CudaContextScope scope(context_);
+    CuDevicePtr estimates = nextEstimates();
+    std::vector<uint32_t> bins(kBins);
+    // The high 16 bits, then the low ones within the high bin that holds the width-th.
+    size_t below = 0;
+    uint32_t value = 0;
+    for (uint32_t high : {kBins, 0u}) {
+        check(d_.cuMemsetD32Async(bins_, 0, kBins, stream_), "clearing the beam's histogram");
+        uint32_t select = high == kBins ? kBins : value >> 16;
+        void* args[] = {&estimates, &count, &select, &bins_};
+        launch(histogram_, count, kBlock, args);
+        check(d_.cuStreamSynchronize(stream_), "cutting a beam layer");
+        check(d_.cuMemcpyDtoH(bins.data(), bins_, kBins * 4), "reading the beam's histogram");
+        uint32_t bin = 0;
+        while (below + bins[bin] < width) below += bins[bin++];
+        value = high == kBins ? bin << 16 : value | bin;
+        if (high != kBins) *ties = static_cast<uint32_t>(width - below);
+    }
+    return value;
+}
+
+// The position before which the first `ties` states whose estimate is
+// `threshold` lie (all of them: count).
+uint32_t DeviceStateSet::tieEnd(uint32_t count, uint32_t threshold, uint32_t ties) {
+    CudaContextScope scope(context_);
+    const size_t blocks = (count + kCountBlock - 1) / kCountBlock;
+    if (cutCountsCapacity_ < blocks) {
+        if (cutCounts_) check(d_.cuMemFree(cutCounts_), "freeing device memory");
+        cutCounts_ = 0;
+        cutCountsCapacity_ = 0;
+        check(d_.cuMemAlloc(&cutCounts_, blocks * 4), "allocating device memory for search");
+        cutCountsCapacity_ = blocks;
+    }
+    CuDevicePtr estimates = nextEstimates();
+    uint32_t all = kAllEstimates;
+    void* args[] = {&estimates, &count, &threshold, &all, &cutCounts_};
+    launch(cutCount_, blocks * kCountBlock, kCountBlock, args);
+    check(d_.cuStreamSynchronize(stream_), "cutting a beam layer");
+    std::vector<uint32_t> perBlock(blocks);
+    check(d_.cuMemcpyDtoH(perBlock.data(), cutCounts_, blocks * 4), "reading the beam's counts");
+    size_t before = 0, block = 0;
+    while (block < blocks && before + perBlock[block] < ties) before += perBlock[block++];
+    if (block == blocks) return count;
+    const size_t first = block * kCountBlock;
+    std::vector<uint32_t> values(std::min<size_t>(kCountBlock, count - first));
+    check(d_.cuMemcpyDtoH(values.data(), estimates + first * 4, values.size() * 4), "reading the beam's estimates");
+    for (size_t i = 0; i < values.size(); ++i) {
+        if (values[i] == threshold && ++before == ties) return static_cast<uint32_t>(first + i + 1);
+    }
+    return count;
 }
 
 size_t DeviceStateSet::room(size_t wanted) {
@@ -320,21 +453,22 @@ size_t DeviceStateSet::room(size_t wanted) {
     return std::min(wanted, freeSlots / inputs);
 }
 
-DeviceStateSet::Outcome DeviceStateSet::expand(uint32_t first, size_t count) {
+DeviceStateSet::Outcome DeviceStateSet::expand(size_t first, size_t count) {
     const size_t inputs = space_.inputs().size();
-    if (count > space_.maxBatch() || first < layerBase_ || first + count > nextBase_ ||
+    if (count > space_.maxBatch() || first + count > layerSize_ ||
         size_ + count * inputs >= (size_t{1} << tableBits_)) {
         throw std::logic_error("DeviceStateSet::expand: states outside the layer, or more than room() allows");
     }
     CudaContextScope scope(context_);
-    space_.expandResident(reinterpret_cast<const void*>(layerKeys_ + windowBytes(first - layerBase_)), count);
+    space_.expandResident(reinterpret_cast<const void*>(layerKeys_ + first * words_ * 8), count, withEstimates_);
     KernelArgs s = kernelArgs();
     CuDevicePtr children = reinterpret_cast<CuDevicePtr>(space_.deviceChildren());
     CuDevicePtr flags = reinterpret_cast<CuDevicePtr>(space_.deviceFlags());
     CuDevicePtr hashes = reinterpret_cast<CuDevicePtr>(space_.deviceHashes());
     uint32_t n = static_cast<uint32_t>(count * inputs);
     uint32_t inputCount = static_cast<uint32_t>(inputs);
-    uint32_t firstParent = first;
+    CuDevicePtr estimates = withEstimates_ ? reinterpret_cast<CuDevicePtr>(space_.deviceEstimates()) : 0;
+    uint32_t firstParent = static_cast<uint32_t>(layerCut_ ? first : layerBase_ + first);
     uint32_t blocks = (n + kCountBlock - 1) / kCountBlock;
     void* insertArgs[] = {&s, &children, &flags, &hashes, &n, &inputCount, &firstParent, &slotOf_, &childPrints_, &counters_};
     launch(insert_, n, kBlock, insertArgs);
@@ -342,7 +476,8 @@ DeviceStateSet::Outcome DeviceStateSet::expand(uint32_t first, size_t count) {
     launch(count_, size_t{blocks} * kCountBlock, kCountBlock, countArgs);
     void* scanArgs[] = {&blockCounts_, &blocks, &counters_};
     launch(scan_, kCountBlock, kCountBlock, scanArgs);
-    void* appendArgs[] = {&s, &children, &childPrints_, &slotOf_, &n, &inputCount, &firstParent, &blockCounts_, &counters_};
+    void* appendArgs[] = {&s,  &children,   &childPrints_, &slotOf_,      &estimates,
+                          &n,  &inputCount, &firstParent,  &blockCounts_, &counters_};
     launch(append_, size_t{blocks} * kCountBlock, kCountBlock, appendArgs);
     check(d_.cuStreamSynchronize(stream_), "expanding states on the device");
     Counters c{};

@@ -90,6 +90,8 @@ SolveResult breadthFirst(SearchRun& run);
 SolveResult deviceBreadthFirst(SearchRun& run);
 // Breadth-first keeping the `width` best new states of each layer.
 SolveResult beamSearch(SearchRun& run, size_t width);
+// The same with every state kept on the GPU: CUDA spaces.
+SolveResult deviceBeamSearch(SearchRun& run, size_t width);
 // f = gWeight * depth + hWeight * estimate.
 SolveResult bestFirst(SearchRun& run, double gWeight, double hWeight);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "SearchRun.h"
 
@@ -53,27 +54,31 @@ void accumulate(SolveResult& total, const SolveResult& r) {
     total.limit = r.limit;
 }
 
-// The widest default beam: 10,000 states a layer on the CPU, 100,000 on the
-// GPU, fewer where a layer's children (kept on the host until the cut) would
-// pass 1 GB.
+// The widest default beam: 10,000 states a layer on the CPU, fewer where a
+// layer's children (kept on the host until the cut) would pass 1 GB; on the
+// GPU, which keeps them, 100,000, fewer where they would pass 8 GB.
 size_t widestBeam(const StateSpace& space) {
-    const size_t width = space.backend() == Backend::Cuda ? 100000 : 10000;
-    const size_t byMemory = (size_t{1} << 30) / (space.keyWords() * 8 * space.inputs().size());
+    const bool gpu = space.backend() == Backend::Cuda;
+    const size_t width = gpu ? 100000 : 10000;
+    const size_t byMemory = ((gpu ? size_t{8} : size_t{1}) << 30) / (space.keyWords() * 8 * space.inputs().size());
     return std::max<size_t>(1000, std::min(width, byMemory));
 }
 
-// Beam search at --beam-width, or by default widening: 256 states a layer,
-// four times wider each time a beam empties after dropping states, up to
-// widestBeam().  Narrow beams reach deep solutions in milliseconds (the
-// corpus' 250 ms levels), wide ones get past misleading estimates.
+// Beam search at --beam-width, or by default widening: 256 states a layer
+// on the CPU, 4,096 on the GPU, four times wider each time a beam empties
+// after dropping states, up to widestBeam().  Narrow beams reach deep
+// solutions in milliseconds (the corpus' 250 ms levels), wide ones get past
+// misleading estimates.  A GPU's layer takes about as long at 4,096 states as
+// at 256 (the batch's launches and the host's reads of its outcome).
 SolveResult beam(StateSpace& space, const SolveOptions& options, double timeLimit) {
     const size_t widest = options.beamWidth ? options.beamWidth : widestBeam(space);
+    const size_t narrowest = space.backend() == Backend::Cuda ? 4096 : 256;
     SolveResult total;
-    for (size_t width = options.beamWidth ? widest : std::min<size_t>(256, widest);; width = std::min(width * 4, widest)) {
+    for (size_t width = options.beamWidth ? widest : std::min(narrowest, widest);; width = std::min(width * 4, widest)) {
         const double budget = timeLimit - total.seconds;
         if (budget <= 0) break;
         SearchRun run(space, options, budget);
-        accumulate(total, beamSearch(run, width));
+        accumulate(total, space.backend() == Backend::Cuda ? deviceBeamSearch(run, width) : beamSearch(run, width));
         if (total.status != Status::Limit || total.limit != "beam" || width == widest) break;
     }
     return total;
@@ -93,21 +98,30 @@ SolveResult runOne(StateSpace& space, const SolveOptions& options, Algorithm alg
     throw std::logic_error("runOne: not one search");
 }
 
-// Breadth-first for the first 1/25 of the time (the shortest solution of a
-// small space), greedy best-first until three quarters of it have passed,
-// beam search until seven eighths, then weighted A* with what is left (the
-// shares docs/search.md's measurements chose: at 250 ms a level greedy
-// solves most, and a restart costs a stage all it had reached; the benchmark
-// levels still need beam and weighted A* at 30-60 s).  A stage that settles
-// nothing early (a beam that empties, a store that fills) leaves its time to
+// On the CPU, breadth-first for the first 1/25 of the time (the shortest
+// solution of a small space), greedy best-first until three quarters of it
+// have passed, beam search until seven eighths, then weighted A* with what is
+// left (the shares docs/search.md's measurements chose: at 250 ms a level
+// greedy solves most, and a restart costs a stage all it had reached; the
+// benchmark levels still need beam and weighted A* at 30-60 s).  On the GPU,
+// where breadth-first and beam search keep their states on the device and
+// run 10-100 times faster than greedy's host-side open list, breadth-first
+// gets a tenth and beam search until half the time, before greedy (until
+// seven eighths) and weighted A*.  A stage that settles nothing early (a
+// beam that empties at its widest, a store that fills) leaves its time to
 // the next.  Each stage starts afresh: memory is freed between them.
 SolveResult portfolio(StateSpace& space, const SolveOptions& options) {
-    const std::pair<Algorithm, double> stages[] = {{Algorithm::BreadthFirst, 1.0 / 25},
-                                                   {Algorithm::Greedy, 3.0 / 4},
-                                                   {Algorithm::Beam, 7.0 / 8},
-                                                   {Algorithm::WeightedAStar, 1.0}};
+    using Stages = std::vector<std::pair<Algorithm, double>>;
+    const Stages cpu = {{Algorithm::BreadthFirst, 1.0 / 25},
+                        {Algorithm::Greedy, 3.0 / 4},
+                        {Algorithm::Beam, 7.0 / 8},
+                        {Algorithm::WeightedAStar, 1.0}};
+    const Stages gpu = {{Algorithm::BreadthFirst, 1.0 / 10},
+                        {Algorithm::Beam, 1.0 / 2},
+                        {Algorithm::Greedy, 7.0 / 8},
+                        {Algorithm::WeightedAStar, 1.0}};
     SolveResult total;
-    for (const auto& [algorithm, until] : stages) {
+    for (const auto& [algorithm, until] : space.backend() == Backend::Cuda ? gpu : cpu) {
         const double budget = options.timeLimit * until - total.seconds;
         if (budget <= 0) continue;
         const SolveResult r = runOne(space, options, algorithm, budget);

@@ -9,8 +9,10 @@
 //   beam      breadth-first keeping the best `beamWidth` new states a layer
 //             (by h; by default widening while beams empty): deep solutions
 //             in bounded memory, incomplete;
-//   portfolio breadth-first for 1/25 of the time, greedy until three
-//             quarters of it, beam until seven eighths, then weighted A*.
+//   portfolio on the CPU breadth-first for 1/25 of the time, greedy until
+//             three quarters of it, beam until seven eighths, then weighted
+//             A*; on the GPU breadth-first for 1/10, beam until half the
+//             time, greedy until seven eighths, then weighted A*.
 // docs/search.md gives the measurements behind these choices.
 #pragma once
 
@@ -47,7 +49,7 @@ struct SolveOptions {
     uint64_t maxStates = 0;   // unique states; 0: only memory bounds them
     size_t maxMemory = 0;     // bytes for the state store; 0: half of the machine's memory (on the GPU, nine tenths of its free memory)
     double weight = 2;        // wastar's w
-    uint64_t beamWidth = 0;   // states a beam layer keeps; 0: widening from 256 to 10,000 on the CPU, 100,000 on the GPU
+    uint64_t beamWidth = 0;   // states a beam layer keeps; 0: widening from 256 to 10,000 on the CPU, 4,096 to 100,000 on the GPU
     SpaceOptions space;
     std::string fromInputs;   // inputs played from the level's start before searching
     std::function<void(const Progress&)> progress;  // called about once a second

@@ -149,12 +149,13 @@ void StateSpace::expandStaged(size_t count) {
           "expanding states");
 }
 
-void StateSpace::expandResident(const void* deviceKeys, size_t count) {
+void StateSpace::expandResident(const void* deviceKeys, size_t count, bool withEstimates) {
     if (options_.backend != Backend::Cuda) throw std::logic_error("StateSpace::expandResident: not a CUDA space");
     if (count > maxBatch_) throw std::logic_error("StateSpace::expandResident: more keys than maxBatch()");
     check(plugin_.expand(batch_, 0, deviceKeys, static_cast<int32_t>(count), static_cast<const int32_t*>(deviceInputs_),
                          static_cast<int32_t>(inputs_.size()), deviceChildren_, static_cast<uint8_t*>(deviceFlags_),
-                         static_cast<uint64_t*>(deviceHashes_), nullptr),
+                         static_cast<uint64_t*>(deviceHashes_),
+                         withEstimates ? static_cast<int32_t*>(deviceEstimates_) : nullptr),
           "expanding states");
 }
 

@@ -64,10 +64,12 @@ public:
     void stage(const uint64_t* keys, size_t count);
     void expandStaged(size_t count);  // queued on the GPU; synchronize() waits
     void synchronize();
-    // CUDA spaces: children of keys already in device memory, left in the
-    // space's device buffers below, queued on the batch's stream.
-    void expandResident(const void* deviceKeys, size_t count);
+    // CUDA spaces: children of keys already in device memory (and their
+    // estimates where asked), left in the space's device buffers below,
+    // queued on the batch's stream.
+    void expandResident(const void* deviceKeys, size_t count, bool withEstimates = false);
     const void* deviceChildren() const { return deviceChildren_; }
+    const void* deviceEstimates() const { return deviceEstimates_; }
     const void* deviceFlags() const { return deviceFlags_; }
     const void* deviceHashes() const { return deviceHashes_; }
     // The CUDA stream the batch queues its work on (null: the default stream).

@@ -1,7 +1,7 @@
-// Duplicate detection for breadth-first search on the GPU: the kernels of
-// DeviceStateSet (DeviceStateSet.h says how they fit together), compiled by
-// NVRTC once per machine and cached.  Game-independent: keys are `words`
-// 64-bit words long.
+// Duplicate detection for breadth-first and beam search on the GPU: the
+// kernels of DeviceStateSet (DeviceStateSet.h says how they fit together),
+// compiled by NVRTC once per machine and cached.  Game-independent: keys are
+// `words` 64-bit words long.
 //
 // Every stored state is known by its 128-bit print (printOf): its key itself
 // when the key has at most two words, else the plugin's 64-bit hash beside a
@@ -11,7 +11,8 @@
 //
 // The table holds, per slot, a state's index in the store, or a child of the
 // batch being inserted (kCandidate | its index among the children), or
-// kEmpty.  Equal children of one batch meet in one slot, where the smallest
+// kEmpty, or kGone: a state that beam search dropped, which probes pass
+// over, so that the state can be reached and stored again.  Equal children of one batch meet in one slot, where the smallest
 // index wins (atomicMin), so the store receives each new state once, from
 // the first parent and input that reach it, in the children's order: the
 // same states, in the same order, as the host's store (search/StateStore.h).
@@ -21,6 +22,10 @@ typedef unsigned long long u64;
 
 #define PSC_EMPTY 0xffffffffu
 #define PSC_CANDIDATE 0x80000000u
+#define PSC_GONE 0x7fffffffu      // no state index: the store holds fewer than 2^31 - 1
+#define PSC_NO_PARENT 0xffffffffu // the first state's parent (StateStore::kNoParent)
+#define PSC_DROPPED 0xfffffffeu   // a dropped state's parent: rehashing leaves it out
+#define PSC_BINS 65536            // the beam cut's histogram: 16 bits of the estimate at a time
 #define PSC_BLOCK 1024  // threads a block of the count and append kernels: one count per PSC_BLOCK children
 
 // psc_expand's flags (runtime/psc_plugin.h).
@@ -40,6 +45,8 @@ struct StateSet {
     void* const* chunks;
     u32* table;              // 2^tableBits slots
     u64* nextKeys;           // the keys of states [nextBase, nextBase + nextCapacity): the layer being built
+    u32* nextEstimates;      // beside them their distance estimates (beam search; else null)
+    const u32* layerStates;  // the store index of each state of the layer being expanded (null: contiguous)
     u32 tableMask;
     u32 tableBits;
     u32 words;
@@ -73,6 +80,17 @@ __device__ __forceinline__ ChunkPlace placeOf(u32 state) {
 __device__ __forceinline__ u64* printAt(const StateSet& s, u32 state) {
     const ChunkPlace p = placeOf(state);
     return static_cast<u64*>(s.chunks[3 * p.chunk]) + 2 * static_cast<u64>(p.offset);
+}
+
+__device__ __forceinline__ u32* parentAt(const StateSet& s, u32 state) {
+    const ChunkPlace p = placeOf(state);
+    return static_cast<u32*>(s.chunks[3 * p.chunk + 1]) + p.offset;
+}
+
+// The store index of the layer's state `position` from the batch's first
+// (firstParent: a store index where the layer is contiguous, else a position in it).
+__device__ __forceinline__ u32 parentOf(const StateSet& s, u32 firstParent, u32 position) {
+    return s.layerStates ? s.layerStates[firstParent + position] : firstParent + position;
 }
 
 __device__ __forceinline__ void recordParent(const StateSet& s, u32 state, u32 parent, unsigned char input) {
@@ -118,6 +136,20 @@ __device__ __forceinline__ bool sameKey(const u64* a, const u64* b, u32 words) {
     return true;
 }
 
+// Among a block's PSC_BLOCK threads (all of them calling), how many before
+// this one have `flag` set.
+__device__ __forceinline__ u32 rankInBlock(bool flag) {
+    __shared__ u32 warpCounts[PSC_BLOCK / 32];
+    const u32 lane = threadIdx.x & 31;
+    const u32 warp = threadIdx.x >> 5;
+    const u32 ballot = __ballot_sync(0xffffffffu, flag);
+    if (lane == 0) warpCounts[warp] = __popc(ballot);
+    __syncthreads();
+    u32 rank = __popc(ballot & ((1u << lane) - 1));
+    for (u32 w = 0; w < warp; ++w) rank += warpCounts[w];
+    return rank;
+}
+
 __device__ __forceinline__ bool isNew(const u32* table, const u32* slotOf, u32 child) {
     const u32 slot = slotOf[child];
     return slot != PSC_EMPTY && table[slot] == (PSC_CANDIDATE | child);
@@ -142,7 +174,7 @@ extern "C" __global__ void psc_set_insert(StateSet s, const u64* children, const
         return;
     }
     if (f & PSC_WON) {
-        atomicMin(&counters->won, (static_cast<u64>(firstParent + child / inputCount) << 8) | (child % inputCount));
+        atomicMin(&counters->won, (static_cast<u64>(parentOf(s, firstParent, child / inputCount)) << 8) | (child % inputCount));
         return;
     }
     if (f & (PSC_UNCHANGED | PSC_CUT_OFF)) return;  // kChildNotSearched (SearchRun.h)
@@ -168,7 +200,7 @@ extern "C" __global__ void psc_set_insert(StateSet s, const u64* children, const
                 slotOf[child] = slot;
                 return;
             }
-        } else {
+        } else if (held != PSC_GONE) {
             const u64* stored = printAt(s, held);
             if (stored[0] == print[0] && stored[1] == print[1]) return;
         }
@@ -184,7 +216,7 @@ extern "C" __global__ void psc_set_count(const u32* table, const u32* slotOf, u3
 }
 
 // One block: the block counts become their exclusive prefix sums, and the
-// store's size grows by their total.
+// store's size grows by their total (counters null: the beam cut's counts).
 extern "C" __global__ void psc_set_scan(u32* blockCounts, u32 blocks, Counters* counters) {
     __shared__ u32 sums[PSC_BLOCK];
     const u32 t = threadIdx.x;
@@ -207,7 +239,7 @@ extern "C" __global__ void psc_set_scan(u32* blockCounts, u32 blocks, Counters* 
         blockCounts[i] = running;
         running += n;
     }
-    if (t == PSC_BLOCK - 1) {
+    if (t == PSC_BLOCK - 1 && counters) {
         counters->base = counters->size;
         counters->size += sums[t];
     }
@@ -217,19 +249,12 @@ extern "C" __global__ void psc_set_scan(u32* blockCounts, u32 blocks, Counters* 
 // keys to the window of the layer being built); their slots then hold their
 // store indices.
 extern "C" __global__ void psc_set_append(StateSet s, const u64* children, const u64* childPrints, const u32* slotOf,
-                                          u32 count, u32 inputCount, u32 firstParent, const u32* blockOffsets,
-                                          Counters* counters) {
-    __shared__ u32 warpCounts[PSC_BLOCK / 32];
+                                          const int* estimates, u32 count, u32 inputCount, u32 firstParent,
+                                          const u32* blockOffsets, Counters* counters) {
     const u32 child = blockIdx.x * PSC_BLOCK + threadIdx.x;
     const bool fresh = child < count && isNew(s.table, slotOf, child);
-    const u32 lane = threadIdx.x & 31;
-    const u32 warp = threadIdx.x >> 5;
-    const u32 ballot = __ballot_sync(0xffffffffu, fresh);
-    if (lane == 0) warpCounts[warp] = __popc(ballot);
-    __syncthreads();
+    const u32 rank = rankInBlock(fresh);
     if (!fresh) return;
-    u32 rank = __popc(ballot & ((1u << lane) - 1));
-    for (u32 w = 0; w < warp; ++w) rank += warpCounts[w];
     const u64 index = static_cast<u64>(counters->base) + blockOffsets[blockIdx.x] + rank;
     if (index >= s.capacity || index - s.nextBase >= s.nextCapacity) {
         atomicAdd(&counters->overflow, 1u);
@@ -241,21 +266,86 @@ extern "C" __global__ void psc_set_append(StateSet s, const u64* children, const
     u64* print = printAt(s, static_cast<u32>(index));
     print[0] = childPrints[2 * static_cast<u64>(child)];
     print[1] = childPrints[2 * static_cast<u64>(child) + 1];
-    recordParent(s, static_cast<u32>(index), firstParent + child / inputCount, static_cast<unsigned char>(child % inputCount));
+    recordParent(s, static_cast<u32>(index), parentOf(s, firstParent, child / inputCount),
+                 static_cast<unsigned char>(child % inputCount));
+    if (s.nextEstimates) s.nextEstimates[index - s.nextBase] = static_cast<u32>(estimates[child]);
     s.table[slotOf[child]] = static_cast<u32>(index);
 }
 
 // The first state, whose key the host put in the window (index 0): its print, and no parent.
 extern "C" __global__ void psc_set_add_root(StateSet s, u64 hash) {
     printOf(s.nextKeys, hash, s.words, printAt(s, 0));
-    recordParent(s, 0, 0xffffffffu, 0);  // StateStore::kNoParent
+    recordParent(s, 0, PSC_NO_PARENT, 0);
 }
 
-// The stored states [0, size) entered into an empty table (a grown one, or the first state).
+// The stored states [0, size) entered into an empty table (a grown one, or
+// the first state), but those beam search dropped.
 extern "C" __global__ void psc_set_rehash(StateSet s, u32 size) {
     const u32 i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= size) return;
+    if (i >= size || *parentAt(s, i) == PSC_DROPPED) return;
     for (u32 slot = slotOfPrint(printAt(s, i), s.tableBits);; slot = (slot + 1) & s.tableMask) {
         if (atomicCAS(s.table + slot, PSC_EMPTY, i) == PSC_EMPTY) return;
     }
+}
+
+// ---- Beam search's cut --------------------------------------------------
+// The layer just built, states [nextBase, nextBase + count), keeps the
+// `width` with the smallest estimates, ties to the earlier state, in their
+// order: the host finds the threshold estimate from two histograms (its high
+// then its low 16 bits) and how many states of that estimate to keep, which
+// come before a position `tieEnd` (from per-block counts); the kept states'
+// keys are packed into the next layer's window beside their store indices,
+// and the others dropped: their table slots become kGone and their parent
+// kDropped, so that the store no longer knows them.
+
+__device__ __forceinline__ bool kept(u32 estimate, u32 position, u32 threshold, u32 tieEnd) {
+    return estimate < threshold || (estimate == threshold && position < tieEnd);
+}
+
+// Histogram of the estimates' high 16 bits (high == PSC_BINS), or of the low
+// 16 bits of those whose high bits are `high`.
+extern "C" __global__ void psc_beam_histogram(const u32* estimates, u32 count, u32 high, u32* bins) {
+    const u32 i = blockIdx.x * blockDim.x + threadIdx.x;
+    const bool in = i < count && (high == PSC_BINS || estimates[i] >> 16 == high);
+    if (!in) return;
+    const u32 bin = high == PSC_BINS ? estimates[i] >> 16 : estimates[i] & 0xffffu;
+    // One atomic per distinct bin of a warp: estimates cluster.
+    const u32 same = __match_any_sync(__activemask(), bin);
+    if ((__ffs(same) - 1) == static_cast<int>(threadIdx.x & 31)) atomicAdd(bins + bin, __popc(same));
+}
+
+// Per block of PSC_BLOCK states: how many have the threshold estimate
+// (tieEnd == PSC_EMPTY), or how many are kept.
+extern "C" __global__ void psc_beam_count(const u32* estimates, u32 count, u32 threshold, u32 tieEnd, u32* blockCounts) {
+    const u32 i = blockIdx.x * PSC_BLOCK + threadIdx.x;
+    const bool in = i < count && (tieEnd == PSC_EMPTY ? estimates[i] == threshold : kept(estimates[i], i, threshold, tieEnd));
+    const int n = __syncthreads_count(in);
+    if (threadIdx.x == 0) blockCounts[blockIdx.x] = static_cast<u32>(n);
+}
+
+// The kept states' keys to `layerKeys` and store indices to `layerStates`,
+// in order (blockOffsets: psc_set_scan's prefix sums of psc_beam_count's);
+// the others dropped.
+extern "C" __global__ void psc_beam_pack(StateSet s, u32 count, u32 threshold, u32 tieEnd, const u32* blockOffsets,
+                                         u64* layerKeys, u32* layerStates) {
+    const u32 i = blockIdx.x * PSC_BLOCK + threadIdx.x;
+    const bool in = i < count;
+    const bool keep = in && kept(s.nextEstimates[i], i, threshold, tieEnd);
+    const u32 rank = rankInBlock(keep);
+    if (!in) return;
+    const u32 state = s.nextBase + i;
+    if (keep) {
+        const u64 to = blockOffsets[blockIdx.x] + rank;
+        for (u32 k = 0; k < s.words; ++k) layerKeys[to * s.words + k] = s.nextKeys[static_cast<u64>(i) * s.words + k];
+        layerStates[to] = state;
+        return;
+    }
+    const u64* print = printAt(s, state);
+    for (u32 slot = slotOfPrint(print, s.tableBits);; slot = (slot + 1) & s.tableMask) {
+        if (s.table[slot] == state) {
+            s.table[slot] = PSC_GONE;
+            break;
+        }
+    }
+    *parentAt(s, state) = PSC_DROPPED;
 }
