@@ -49,7 +49,7 @@ struct SolveOptions {
     uint64_t maxStates = 0;   // unique states; 0: only memory bounds them
     size_t maxMemory = 0;     // bytes for the state store; 0: half of the machine's memory (on the GPU, nine tenths of its free memory)
     double weight = 2;        // wastar's w
-    uint64_t beamWidth = 0;   // states a beam layer keeps; 0: widening from 256 to 10,000 on the CPU, 4,096 to 100,000 on the GPU
+    uint64_t beamWidth = 0;   // states a beam layer keeps; 0: widening from 256 to 10,000 on the CPU, 4,096 to 1,048,576 on the GPU
     SpaceOptions space;
     std::string fromInputs;   // inputs played from the level's start before searching
     std::function<void(const Progress&)> progress;  // called about once a second
