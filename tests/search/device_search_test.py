@@ -60,8 +60,8 @@ def compare(game, levels, beam_width=None):
     check(code in (0, 1) and len(cuda) == len(cpu) and cpu, f"{game.name}: both backends answer ({cpu_err}{cuda_err})")
     for c, g in zip(cpu, cuda):
         where = f"{game.name} level {c['level']}" + (f" beam {beam_width}" if beam_width else "")
-        emptied = c.get("limit") == "beam" or g.get("limit") == "beam"
-        if (c["status"] == "limit" or g["status"] == "limit") and not emptied:
+        # A beam that emptied settles a level as exhaustion does; the other limits leave it open.
+        if any(r["status"] == "limit" and r.get("limit") != "beam" for r in (c, g)):
             print(f"  {where}: a limit (cpu {c.get('limit')}, cuda {g.get('limit')}), not compared")
             continue
         fields = ("status", "solution", "length") if c["status"] == "solved" else ("status", "limit", "expanded", "unique_states")
