@@ -16,9 +16,9 @@
 #             level 0 and sokoban's level 1, batch sweep
 #   search    breadth-first with its states on the GPU against the host's (tests/search/device_search_test.py,
 #             SEARCH_SECONDS a level, default 20)
-#   scale     one breadth-first search on the GPU of each of SCALE_LEVELS (game:level, default notsnake:0
-#             zenpuzzle:0 limerick:6 atlas:8) for SCALE_SECONDS (default 60), its JSON record and progress
-#             lines kept: the whole search's rate and its largest store
+#   scale     one search on the GPU of each of SCALE_LEVELS (game:level, default notsnake:0 zenpuzzle:0
+#             limerick:6 atlas:8) for SCALE_SECONDS (default 60), SCALE_ALGORITHM (default bfs), its JSON
+#             record and progress lines kept: the whole search's rate and its largest store
 #   solve     psc solve --backend cuda over every level of the benchmark games (bench/solve_report.py),
 #             SOLVE_ALGORITHM (default portfolio), SOLVE_SECONDS a level (default 60), SOLVE_JOBS games at once,
 #             SOLVE_PER_LEVEL=1 a psc solve (and plugin) per level
@@ -177,7 +177,7 @@ for stage in "$@"; do
         for spec in ${SCALE_LEVELS:-notsnake:0 zenpuzzle:0 limerick:6 atlas:8}; do
             name=${spec%:*}
             level=${spec#*:}
-            "$psc" solve "bench/games/$name.txt" --level "$level" --backend cuda --algorithm bfs \
+            "$psc" solve "bench/games/$name.txt" --level "$level" --backend cuda --algorithm "${SCALE_ALGORITHM:-bfs}" \
                 --time-limit "${SCALE_SECONDS:-60}" --format json > "$out/scale/$name.L$level.json" 2> "$out/scale/$name.L$level.progress"
             tr '\r' '\n' < "$out/scale/$name.L$level.progress" | grep -v '^$' > "$out/scale/$name.L$level.lines"
             mv "$out/scale/$name.L$level.lines" "$out/scale/$name.L$level.progress"
