@@ -1,7 +1,8 @@
 // Beam search: breadth-first, but each layer keeps only the `width` new
 // states with the smallest win-condition estimate (ties to the earlier
-// child), in the order they were reached (as the GPU's beam, which keeps its
-// states on the device, DeviceBreadthFirst.cpp, finds them).  It reaches depths breadth-first cannot hold in memory (atlas'
+// child), in the order they were reached, as the GPU's beam search
+// (DeviceBreadthFirst.cpp), which keeps its states on the device, finds them.
+// It reaches depths breadth-first cannot hold in memory (atlas'
 // solutions run to hundreds of inputs) at the price of completeness: a level
 // whose beam empties after dropping states is a `beam` limit, not exhausted.
 // Dropped states are not remembered, so a later layer may reach and keep one.
