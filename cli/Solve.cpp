@@ -28,7 +28,7 @@ public:
     void show(int level, const search::Progress& p) {
         if (!enabled_) return;
         const std::string line =
-            fmt::format("psc solve: level {}: depth {}, {} states, {} expanded/s, {} MB, {:.0f} s", level, p.depth,
+            fmt::format("psc solve: level {}: {}: depth {}, {} states, {} expanded/s, {} MB, {:.0f} s", level, p.stage, p.depth,
                         humanCount(static_cast<double>(p.unique)), humanCount(p.expanded / std::max(p.seconds, 1e-9)),
                         p.bytes >> 20, p.seconds);
         if (tty_) fmt::print(stderr, "\r{}\x1b[K", line);

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <utility>
 
 namespace psc::search {
 namespace {
@@ -16,10 +17,11 @@ size_t defaultMemoryLimit() {
 
 }  // namespace
 
-SearchRun::SearchRun(StateSpace& s, const SolveOptions& options, double timeLimit)
+SearchRun::SearchRun(StateSpace& s, const SolveOptions& options, double timeLimit, std::string stage)
     : space(s),
       store(s.keyWords(), options.maxMemory ? options.maxMemory : defaultMemoryLimit()),
       options_(options),
+      stage_(std::move(stage)),
       timeLimit_(timeLimit),
       start_(std::chrono::steady_clock::now()) {}
 
@@ -67,7 +69,7 @@ void SearchRun::reportProgress(int depth, uint64_t unique, size_t bytes) {
     const double now = elapsed();
     if (now - lastProgress_ < 1.0) return;
     lastProgress_ = now;
-    options_.progress(Progress{depth, result.expanded, unique, now, bytes});
+    options_.progress(Progress{stage_, depth, result.expanded, unique, now, bytes});
 }
 
 size_t SearchRun::batchWithinTime(size_t wanted) const {

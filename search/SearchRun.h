@@ -3,6 +3,7 @@
 #pragma once
 
 #include <chrono>
+#include <string>
 #include <vector>
 
 #include "Solver.h"
@@ -13,7 +14,8 @@ namespace psc::search {
 
 class SearchRun {
 public:
-    SearchRun(StateSpace& space, const SolveOptions& options, double timeLimit);
+    // `stage` names the search in progress lines ("bfs", "beam 4096").
+    SearchRun(StateSpace& space, const SolveOptions& options, double timeLimit, std::string stage);
 
     const SolveOptions& options() const { return options_; }
 
@@ -54,6 +56,7 @@ private:
     SolveResult& solved(const std::vector<int>& path, int input) { return solved(path, input, store.size(), store.bytes()); }
 
     const SolveOptions& options_;
+    std::string stage_;
     double timeLimit_;
     std::chrono::steady_clock::time_point start_;
     double lastProgress_ = 0;

@@ -79,7 +79,7 @@ SolveResult beam(StateSpace& space, const SolveOptions& options, double timeLimi
     for (size_t width = options.beamWidth ? widest : std::min(narrowest, widest);; width = std::min(width * 4, widest)) {
         const double budget = timeLimit - total.seconds;
         if (budget <= 0) break;
-        SearchRun run(space, options, budget);
+        SearchRun run(space, options, budget, "beam " + std::to_string(width));
         accumulate(total, space.backend() == Backend::Cuda ? deviceBeamSearch(run, width) : beamSearch(run, width));
         if (total.status != Status::Limit || total.limit != "beam" || width == widest) break;
     }
@@ -88,7 +88,7 @@ SolveResult beam(StateSpace& space, const SolveOptions& options, double timeLimi
 
 SolveResult runOne(StateSpace& space, const SolveOptions& options, Algorithm algorithm, double timeLimit) {
     if (algorithm == Algorithm::Beam) return beam(space, options, timeLimit);
-    SearchRun run(space, options, timeLimit);
+    SearchRun run(space, options, timeLimit, std::string(algorithmName(algorithm)));
     switch (algorithm) {
         case Algorithm::BreadthFirst: return space.backend() == Backend::Cuda ? deviceBreadthFirst(run) : breadthFirst(run);
         case Algorithm::AStar: return bestFirst(run, 1, 1);

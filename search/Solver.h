@@ -36,10 +36,11 @@ enum class Status { Solved, Exhausted, Limit };
 std::string_view statusName(Status status);
 
 struct Progress {
+    std::string_view stage;   // the search running: "bfs", "greedy", "beam 4096" (its width)...
     int depth = 0;            // breadth-first: the layer; best-first: the deepest state expanded
     uint64_t expanded = 0;
     uint64_t unique = 0;
-    double seconds = 0;
+    double seconds = 0;       // since this search (a portfolio's stage, a beam's width) began
     size_t bytes = 0;         // the state store's memory
 };
 

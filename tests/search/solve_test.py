@@ -174,6 +174,17 @@ if records:
     check(code == 1 and records and records[0].get("limit") == "time" and records[0]["seconds"] < whole / 2,
           f"deadline.txt at a tenth of its {whole:.3f} s: stopped inside the chain ({records} {err.strip()})")
 
+# A search longer than a second shows progress on stderr, naming the search
+# (big_room.txt holds millions of states and wins none); --quiet shows none.
+big_room = HERE / "long_games" / "big_room.txt"
+done = subprocess.run([PSC, "solve", str(big_room), "--threads", "1", "--time-limit", "1.6"], capture_output=True, text=True)
+lines = [l for l in done.stderr.splitlines() if l.startswith("psc solve: level 0: bfs: depth ")]
+check(done.returncode == 1 and lines and "states" in lines[-1] and "expanded/s" in lines[-1] and "MB" in lines[-1],
+      f"progress lines for a 1.6 s search: {done.stderr.strip()[-300:]}")
+code, records, err = solve(big_room, "--threads", "1", "--time-limit", "1.6")
+check(code == 1 and records and records[0].get("limit") == "time" and "psc solve: level" not in err,
+      f"--quiet: a time limit, no progress ({records} {err.strip()[-200:]})")
+
 # Bad arguments: a clear message and exit 2.
 for args, message in [
     ([str(sokoban), "--algorithm", "dfs"], "dfs"),
