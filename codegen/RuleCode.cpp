@@ -485,12 +485,13 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
     std::vector<RuleNames> names;
     std::vector<Piece> rules;
     size_t bytes = 0;
-    const std::vector<uint64_t> groupNeeds = groupNeededPresence(g, group, presenceWords(g));
+    const int words = presenceWords(g);
+    const std::vector<uint64_t> groupNeeds = groupNeededPresence(g, group, words);
     for (const auto& rule : group.rules) {
         std::string base = uniqueIdentifier(ruleIdentifier(g, rule, late), used);
         // A rule that needs no board beyond the group's is not tested before
         // its call: the turn tested those boards, and the rule's first test is its own.
-        const std::vector<uint64_t> needs = neededPresence(g, rule, presenceWords(g));
+        const std::vector<uint64_t> needs = neededPresence(g, rule, words);
         names.push_back({base, base + "_count", base + "_apply_nth", needs == groupNeeds ? "" : presenceTest(g, needs)});
         CodeWriter code(indent);
         emitRule(code, g, rule, names.back(), group.random, messages, kind);

@@ -12,7 +12,8 @@
 // The table holds, per slot, a state's index in the store, or a child of the
 // batch being inserted (kCandidate | its index among the children), or
 // kEmpty, or kGone: a state that beam search dropped, which probes pass
-// over, so that the state can be reached and stored again.  Equal children of one batch meet in one slot, where the smallest
+// over, so that the state can be reached and stored again.  Equal children
+// of one batch meet in one slot, where the smallest
 // index wins (atomicMin), so the store receives each new state once, from
 // the first parent and input that reach it, in the children's order: the
 // same states, in the same order, as the host's store (search/StateStore.h).

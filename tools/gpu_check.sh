@@ -14,8 +14,8 @@
 #             (plugins prebuilt here into out/python-gpu, carried)
 #   expand    search's batched expansion on the GPU (psc bench --expand), every benchmark game's
 #             level 0 and sokoban's level 1, batch sweep
-#   search    breadth-first with its states on the GPU against the host's (tests/search/device_search_test.py,
-#             SEARCH_SECONDS a level, default 20)
+#   search    breadth-first and beam search with their states on the GPU against the host's
+#             (tests/search/device_search_test.py, SEARCH_SECONDS a level, default 20)
 #   scale     one search on the GPU of each of SCALE_LEVELS (game:level, default notsnake:0 zenpuzzle:0
 #             limerick:6 atlas:8) for SCALE_SECONDS (default 60), SCALE_ALGORITHM (default bfs), its JSON
 #             record and progress lines kept: the whole search's rate and its largest store
