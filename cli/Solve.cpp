@@ -64,6 +64,7 @@ nlohmann::ordered_json record(const search::SolveResult& r, int level, int entry
     j["backend"] = backend;
     if (r.status == search::Status::Limit) j["limit"] = r.limit;
     if (r.startCutOff) j["start_cut_off"] = true;
+    if (r.startWon) j["start_won"] = true;
     return j;
 }
 
@@ -168,7 +169,8 @@ int runSolve(const SolveCommandOptions& o) {
         if (o.format == "json") {
             fmt::print("{}\n", record(r, level, entry, o.algorithm, o.backend).dump());
         } else {
-            const std::string what = r.status == search::Status::Solved
+            const std::string what = r.startWon ? std::string("solved by its start: its again chain wins the level before any input")
+                                     : r.status == search::Status::Solved
                                          ? fmt::format("solved in {} inputs: {}", r.solution.size(), r.solution)
                                      : r.startCutOff ? std::string("exhausted: its start runs an again chain that never settles "
                                                                    "(cut off after 10,000 turns), so no input can be played")

@@ -35,6 +35,7 @@ std::unique_ptr<Plugin> Plugin::open(const std::string& path, std::string* error
     PSC_LOAD(reset, psc_reset);
     PSC_LOAD(resetEntry, psc_reset_entry);
     PSC_LOAD(startCutOff, psc_start_cut_off);
+    PSC_LOAD(startWon, psc_start_won);
     PSC_LOAD(setDeadline, psc_set_deadline);
     PSC_LOAD(step, psc_step);
     PSC_LOAD(observe, psc_observe);
@@ -56,7 +57,7 @@ std::unique_ptr<Plugin> Plugin::open(const std::string& path, std::string* error
     PSC_LOAD(copy, psc_copy);
 #undef PSC_LOAD
     if (!info || !p->lastError || !p->batchCreate || !p->batchDestroy || !p->reset || !p->resetEntry || !p->startCutOff ||
-        !p->setDeadline || !p->step || !p->observe || !p->stateSize || !p->saveState || !p->loadState || !p->dumpState || !p->getBuffers ||
+        !p->startWon || !p->setDeadline || !p->step || !p->observe || !p->stateSize || !p->saveState || !p->loadState || !p->dumpState || !p->getBuffers ||
         !p->stepBuffers || !p->setStream || !p->synchronize || !p->rollout || !p->encodeStates || !p->decodeState ||
         !p->expand || !p->estimateDistance || !p->deviceAlloc || !p->deviceFree || !p->copy) {
         *error = path + " lacks functions of the psc plugin ABI";

@@ -25,6 +25,7 @@ public:
     decltype(&psc_reset) reset = nullptr;
     decltype(&psc_reset_entry) resetEntry = nullptr;
     decltype(&psc_start_cut_off) startCutOff = nullptr;
+    decltype(&psc_start_won) startWon = nullptr;
     decltype(&psc_set_deadline) setDeadline = nullptr;
     decltype(&psc_step) step = nullptr;
     decltype(&psc_observe) observe = nullptr;

@@ -1,4 +1,4 @@
-/* psc plugin ABI, version 3.
+/* psc plugin ABI, version 5.
  *
  * Every plugin psc builds (`psc game.txt -o game.so`) exports these C
  * functions.  A plugin simulates one PuzzleScript game for a batch of
@@ -29,7 +29,7 @@
 extern "C" {
 #endif
 
-#define PSC_ABI_VERSION 4
+#define PSC_ABI_VERSION 5
 
 /* Plugins are built with hidden symbols; these are the exported ones. */
 #if defined(__GNUC__)
@@ -195,6 +195,14 @@ PSC_API int psc_reset_entry(psc_batch* batch, int32_t env, int32_t entry, const 
  * engine never finishes such a start, so no input can be played on it.
  * Since ABI version 4. */
 PSC_API int psc_start_cut_off(const psc_batch* batch, int32_t env, uint8_t* cut_off);
+/* Whether the last reset of environment `env` started a level that its start
+ * won before any input: a `run_rules_on_level_start` turn queued an `again`
+ * chain whose turns satisfied the win conditions (the start turn itself
+ * never wins).  The reference engine then shows the next entry before the
+ * first input; an environment with auto_reset shows the won level, as after
+ * a winning step.  Such a level is solved by no input at all.  Since ABI
+ * version 5. */
+PSC_API int psc_start_won(const psc_batch* batch, int32_t env, uint8_t* won);
 /* One action per environment; results may be NULL. */
 PSC_API int psc_step(psc_batch* batch, const int32_t* actions, psc_step_result* results);
 /* Observations of all environments: num_envs * object_count * max_height * max_width bytes. */

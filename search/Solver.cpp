@@ -146,6 +146,13 @@ SolveResult solve(const Plugin& plugin, int level, const SolveOptions& options) 
         nothing.startCutOff = true;
         return nothing;
     }
+    if (space.startWon()) {
+        SolveResult won;
+        won.status = Status::Solved;
+        won.unique = 1;
+        won.startWon = true;
+        return won;
+    }
     SolveResult result = options.algorithm == Algorithm::Portfolio
                              ? portfolio(space, options)
                              : runOne(space, options, options.algorithm, options.timeLimit);

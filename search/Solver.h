@@ -69,6 +69,9 @@ struct SolveResult {
     // 10,000 turns): the reference engine never takes an input there, so
     // there is nothing to search and the status is exhausted.
     bool startCutOff = false;
+    // The level's start won it (a run_rules_on_level_start turn's `again`
+    // chain did): solved by no input, nothing searched.
+    bool startWon = false;
 };
 
 // Throws std::runtime_error on a bad level, input letter or plugin failure.

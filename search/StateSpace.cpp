@@ -61,8 +61,12 @@ StateSpace::StateSpace(const Plugin& plugin, const SpaceOptions& options, int le
     uint8_t startCutOff = 0;
     check(plugin.startCutOff(batch_, env, &startCutOff), "starting the level");
     rootCutOff_ = startCutOff != 0;
+    uint8_t startWon = 0;
+    check(plugin.startWon(batch_, env, &startWon), "starting the level");
+    startWon_ = startWon != 0;
+    rootWon_ = startWon_;
     for (char c : fromInputs) {
-        if (rootCutOff_) break;
+        if (rootCutOff_ || rootWon_) break;
         const int32_t action = actionOfLetter(c);
         psc_step_result r{};
         check(plugin.step(batch_, &action, &r), "playing --from-inputs");

@@ -42,7 +42,10 @@ public:
     const std::vector<int32_t>& inputs() const { return inputs_; }
     const std::vector<uint64_t>& root() const { return root_; }
     uint64_t rootHash() const { return rootHash_; }
-    bool rootWon() const { return rootWon_; }  // fromInputs already won the level
+    bool rootWon() const { return rootWon_; }  // the start or fromInputs already won the level
+    // The level's start won it before any input (its `again` chain did):
+    // the reference engine shows the next entry before the first input.
+    bool startWon() const { return startWon_; }
     // The level's start (or an input of fromInputs) ran an `again` chain that
     // was cut off: the reference engine never finishes it, so nothing follows.
     bool rootCutOff() const { return rootCutOff_; }
@@ -91,6 +94,7 @@ private:
     std::vector<uint64_t> root_;
     uint64_t rootHash_ = 0;
     bool rootWon_ = false;
+    bool startWon_ = false;
     bool rootCutOff_ = false;
     int entry_ = 0;
     size_t maxBatch_ = 0;

@@ -430,6 +430,7 @@ struct Env {
     u8 stopOnWin;            // episodes end at a win (no level change)
     u8 unavailable;          // play reached a level this plugin was built without
     u8 startCutOff;          // the last reset ran an again chain at the level's start that was cut off
+    u8 startWon;             // the last reset's start (its again chain) won the level before any input
     u8 restarting;           // a restart is in progress (nested restarts are ignored)
     u16 wins;                // levels won since the counter was last reset
     u32 queue;               // commands queued this turn

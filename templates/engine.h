@@ -540,6 +540,7 @@ PSC_DEVICE PSC_COLD void startEpisode(Env& e, UndoStack& u) {
     e.stopOnWin = e.autoReset != kAutoResetOff ? 1 : 0;
     e.unavailable = 0;
     e.startCutOff = startAtEntry(e, u, e.levelEntry) ? 0 : 1;
+    e.startWon = e.wins > 0 ? 1 : 0;
     e.episodeSteps = 0;
     e.needsReset = 0;
 }

@@ -81,6 +81,7 @@ void moduleView(const void* env, psc_host::EnvView* out) {
     out->againing = e.againing;
     out->shownMessage = shownMessageOf(e);
     out->startCutOff = e.startCutOff;
+    out->startWon = e.startWon;
 }
 
 int moduleCellObjects(const void* env, int x, int y, int* ids) {

@@ -3,7 +3,9 @@
 solved record (bench/solve_report.py's JSON lines: game, entry, seed,
 solution) is recorded with ../shared/tools/refgen from the level's entry with
 the same seed, and must stay on that level until its last input, which wins it
-(the engine moves on to another entry, a message or the title screen).
+(the engine moves on to another entry, a message or the title screen).  An
+empty solution says the level's start wins it (`run_rules_on_level_start` with
+an `again` chain): the engine must have left the level before any input.
 
   tools/verify_solutions.py --engine PUZZLESCRIPT_SRC R.jsonl [--game-dir bench/games] [--jobs 2]
 
@@ -36,6 +38,8 @@ def verify(refgen, engine, game_path, record):
     start = record["entry"]
     def on_level(state):
         return state["level"] == start and state["screen"] == "level"
+    if not record["solution"]:
+        return "the engine's start does not win the level" if on_level(case["initial"]) else None
     if not on_level(case["initial"]):
         return "the engine did not start on the level"
     steps = case["steps"]

@@ -7,7 +7,7 @@ C alignment rules, so the layouts agree on every platform psc builds for.
 import ctypes
 from ctypes import POINTER, c_char_p, c_double, c_int, c_int8, c_int32, c_size_t, c_uint8, c_uint32, c_uint64, c_void_p
 
-ABI_VERSION = 4
+ABI_VERSION = 5
 
 BACKEND_CPU = 0
 BACKEND_CUDA = 1
@@ -141,6 +141,7 @@ _PROTOTYPES = {
     "psc_reset": (c_int, [c_void_p, c_void_p, c_int32, c_void_p, c_void_p]),
     "psc_reset_entry": (c_int, [c_void_p, c_int32, c_int32, c_char_p]),
     "psc_start_cut_off": (c_int, [c_void_p, c_int32, POINTER(c_uint8)]),
+    "psc_start_won": (c_int, [c_void_p, c_int32, POINTER(c_uint8)]),
     "psc_set_deadline": (c_int, [c_void_p, c_double]),
     "psc_step": (c_int, [c_void_p, c_void_p, c_void_p]),
     "psc_observe": (c_int, [c_void_p, c_void_p, c_size_t]),

@@ -93,6 +93,14 @@ class Batch:
         self.check(self.lib.psc_start_cut_off(self.handle, env, ctypes.byref(flag)), "reading the start")
         return bool(flag.value)
 
+    def start_won(self, env: int = 0) -> bool:
+        """Whether the last reset of environment `env` started a level that
+        its start won before any input (a `run_rules_on_level_start` turn's
+        `again` chain satisfied the win conditions)."""
+        flag = ctypes.c_uint8(0)
+        self.check(self.lib.psc_start_won(self.handle, env, ctypes.byref(flag)), "reading the start")
+        return bool(flag.value)
+
     def step(self, actions) -> np.ndarray:
         """One step with host actions; returns the psc_step_result array (host)."""
         action_array = _int32s(actions, self.num_envs, "actions")

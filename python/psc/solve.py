@@ -33,7 +33,9 @@ def solve(
     """Searches playable level `level` of the game file `game` and returns its
     record: level, entry, status ("solved", "exhausted" or "limit"), solution
     (letters u d l r x, or None), length, expanded, generated, unique_states,
-    seconds, memory_bytes, algorithm, backend, and limit when one stopped it.
+    seconds, memory_bytes, algorithm, backend, and limit when one stopped it;
+    start_won (solved by the empty solution: the level's start wins it) and
+    start_cut_off (exhausted: its start never settles) when true.
     `from_inputs` are played from the level's start first; the solution then
     continues from there."""
     if algorithm not in ALGORITHMS:

@@ -428,6 +428,15 @@ class VectorEnv:
         self._check_open()
         return self._batch.start_cut_off(self._env_index(i))
 
+    def start_won(self, i: int) -> bool:
+        """Whether environment i's last reset started a level that its start
+        won before any input: a `run_rules_on_level_start` turn queued an
+        `again` chain that satisfied the win conditions.  The reference
+        engine shows the next entry before the first input; with autoreset
+        the environment shows the won level, as after a winning step."""
+        self._check_open()
+        return self._batch.start_won(self._env_index(i))
+
     def render(self, i: int = 0, scale: int = 1) -> np.ndarray:
         """Environment i's level as RGB, uint8 (height*5*scale, width*5*scale, 3)."""
         self._check_open()

@@ -43,6 +43,7 @@ struct EnvView {
     int againing;
     int shownMessage;  // rule message index, or -1
     int startCutOff;   // the last reset's start chain was cut off
+    int startWon;      // the last reset's start won the level
 };
 
 // A CUDA batch's device pointers, passed by value to every kernel: the

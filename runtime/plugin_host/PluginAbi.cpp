@@ -267,16 +267,27 @@ PSC_API int psc_reset_entry(psc_batch* batch, int32_t env, int32_t entry, const 
     return PSC_OK;
 }
 
-PSC_API int psc_start_cut_off(const psc_batch* batch, int32_t env, uint8_t* cut_off) {
+namespace {
+// One flag of environment env's view (psc_start_cut_off, psc_start_won).
+int readViewFlag(const psc_batch* batch, int32_t env, uint8_t* flag, const char* flagName, int EnvView::*field) {
     const GameModule& g = game();
     if (int s = checkEnv(batch, env)) return s;
-    if (!cut_off) return fail(PSC_ERROR_NULL_POINTER, "cut_off is NULL");
+    if (!flag) return fail(PSC_ERROR_NULL_POINTER, std::string(flagName) + " is NULL");
     EnvBuffer e(g.envBytes);
     if (int s = fetchEnv(batch, env, e)) return s;
     EnvView v;
     g.view(e.data(), &v);
-    *cut_off = v.startCutOff ? 1 : 0;
+    *flag = v.*field ? 1 : 0;
     return PSC_OK;
+}
+}  // namespace
+
+PSC_API int psc_start_cut_off(const psc_batch* batch, int32_t env, uint8_t* cut_off) {
+    return readViewFlag(batch, env, cut_off, "cut_off", &EnvView::startCutOff);
+}
+
+PSC_API int psc_start_won(const psc_batch* batch, int32_t env, uint8_t* won) {
+    return readViewFlag(batch, env, won, "won", &EnvView::startWon);
 }
 
 PSC_API int psc_step(psc_batch* batch, const int32_t* actions, psc_step_result* results) {

@@ -191,13 +191,15 @@ def batch_calls(p, path):
              "    assert lib.psc_dump_state(b, 0, buf, need.value, None) == OK\n", path)
     expect(p, "reset_entry back to entry 0", lib.psc_reset_entry(b, 0, 0, b"s"), OK)
 
-    flag = ctypes.c_uint8(7)
-    expect(p, "start_cut_off(NULL batch)", lib.psc_start_cut_off(None, 0, ctypes.byref(flag)), NULL)
-    expect(p, "start_cut_off(NULL cut_off)", lib.psc_start_cut_off(b, 0, None), NULL)
-    for env in (2, -1, INT32_MAX, INT32_MIN):
-        expect(p, f"start_cut_off of environment {env}", lib.psc_start_cut_off(b, env, ctypes.byref(flag)), BAD_ENV)
-    expect(p, "start_cut_off", lib.psc_start_cut_off(b, 0, ctypes.byref(flag)), OK)
-    record(flag.value in (0, 1), "start_cut_off writes 0 or 1")
+    for name in ("start_cut_off", "start_won"):
+        query = getattr(lib, "psc_" + name)
+        flag = ctypes.c_uint8(7)
+        expect(p, f"{name}(NULL batch)", query(None, 0, ctypes.byref(flag)), NULL)
+        expect(p, f"{name}(NULL flag)", query(b, 0, None), NULL)
+        for env in (2, -1, INT32_MAX, INT32_MIN):
+            expect(p, f"{name} of environment {env}", query(b, env, ctypes.byref(flag)), BAD_ENV)
+        expect(p, name, query(b, 0, ctypes.byref(flag)), OK)
+        record(flag.value in (0, 1), f"{name} writes 0 or 1")
     expect(p, "set_deadline(NULL batch)", lib.psc_set_deadline(None, 1.0), NULL)
     for seconds in (-1.0, float("nan"), float("inf"), 1e300):
         expect(p, f"set_deadline({seconds})", lib.psc_set_deadline(b, seconds), BAD_ARG)

@@ -66,6 +66,9 @@ EXPECTED = [
     ("endless.txt", 0, "exhausted", None),  # the door opens only with a shuttle that never stops
     ("endless.txt", 1, "solved", "ll"),
     ("endless.txt", 2, "exhausted", None),  # the start's chain never settles: no input is ever played
+    ("start_wins.txt", 0, "solved", ""),    # the start's again chain wins: no input at all
+    ("start_wins.txt", 1, "solved", "rr"),  # the start's chain cannot win; the player must
+    ("start_wins.txt", 2, "solved", "u"),   # nothing queued at the start: the first input wins
 ]
 
 for game, level, status, solution in EXPECTED:
@@ -80,9 +83,11 @@ for game, level, status, solution in EXPECTED:
     check(r["solution"] == solution, f"{what}: solution {r['solution']}, expected {solution}")
     if game == "endless.txt" and level == 2:
         check(r.get("start_cut_off") is True and r["expanded"] == 0, f"{what}: nothing searched from a cut-off start {r}")
+    elif game == "start_wins.txt" and level == 0:
+        check(r.get("start_won") is True and r["length"] == 0 and r["expanded"] == 0, f"{what}: nothing searched {r}")
     else:
-        check(r["level"] == level and r["unique_states"] >= 1 and r["expanded"] >= 1 and "start_cut_off" not in r,
-              f"{what}: counters {r}")
+        check(r["level"] == level and r["unique_states"] >= 1 and r["expanded"] >= 1 and "start_cut_off" not in r
+              and "start_won" not in r, f"{what}: counters {r}")
     if solution:
         check(r["length"] == len(solution), f"{what}: length")
         check(wins_exactly_at_end(GAMES / game, level, r["solution"]), f"{what}: replay wins at the end")
@@ -110,6 +115,22 @@ endless = Batch(psc.Plugin(psc.compile(GAMES / "endless.txt", psc_binary=PSC)), 
 for level, cut in [(0, False), (1, False), (2, True)]:
     endless.reset([level], [0])
     check(endless.start_cut_off(0) == cut, f"endless level {level}: start_cut_off {cut}")
+    check(not endless.start_won(0), f"endless level {level}: not won by its start")
+# A start whose again chain wins (psc_start_won), with and without auto-reset:
+# every algorithm reports it solved by no input, and so does psc.solve.
+start_wins = psc.Plugin(psc.compile(GAMES / "start_wins.txt", psc_binary=PSC))
+for auto_reset in [_abi.AUTO_RESET_OFF, _abi.AUTO_RESET_NEXT_STEP]:
+    batch = Batch(start_wins, 1, _abi.BACKEND_CPU, 1, 0, auto_reset, 0)
+    for level, won in [(0, True), (1, False), (2, False)]:
+        batch.reset([level], [0])
+        check(batch.start_won(0) == won and not batch.start_cut_off(0),
+              f"start_wins level {level}, auto-reset {auto_reset}: start_won {won}")
+for algorithm in ["astar", "wastar", "greedy", "beam", "portfolio"]:
+    code, records, err = solve(GAMES / "start_wins.txt", "--level", "0", "--algorithm", algorithm)
+    check(code == 0 and records and records[0]["solution"] == "" and records[0].get("start_won") is True,
+          f"{algorithm} start_wins level 0: solved by its start ({records} {err.strip()})")
+r = psc.solve(GAMES / "start_wins.txt", 0, psc_binary=PSC)
+check(r["status"] == "solved" and r["solution"] == "" and r.get("start_won") is True, f"psc.solve on a start that wins: {r}")
 
 # Levels of different board sizes get a plugin each (built when the first of
 # them comes up), and every level is still searched and reported in order.
