@@ -86,6 +86,11 @@
 #undef PSC_TURN
 #define PSC_TURN __noinline__
 #define PSC_DEFINES_TURN (PSC_UNIT == PSC_TURN_UNIT)
+// The level changes the turn's commands make (restart, the next level) are
+// called from unit 0's kernels too: defined there once, not compiled again
+// with the turn (a fifth of the turn unit's NVRTC time).
+#define PSC_LEVEL_CHANGE __noinline__
+#define PSC_DEFINES_LEVEL_CHANGES (PSC_UNIT == 0)
 #endif
 #define PSC_INPUT PSC_INLINE
 #define PSC_TABLE __device__ const
@@ -137,6 +142,10 @@
 
 #if !defined(PSC_DEFINES_TURN)
 #define PSC_DEFINES_TURN 1
+#endif
+#if !defined(PSC_LEVEL_CHANGE)
+#define PSC_LEVEL_CHANGE PSC_COLD
+#define PSC_DEFINES_LEVEL_CHANGES 1
 #endif
 // The turn calls a rule group only while every board that all its rules
 // need holds something (RuleCode's applyEarlyRules and applyLateRules): it

@@ -11,6 +11,10 @@ namespace psc_game {
 // A turn with no input, out of line: the level-start turn of
 // run_rules_on_level_start (dontDoWin) and the again turns after it.
 PSC_DEVICE PSC_COLD void coldTurn(Env& e, UndoStack& u, bool dontDoWin);
+// The turn's level changes, defined where PSC_DEFINES_LEVEL_CHANGES
+// (templates/core.h), declared for all.
+PSC_DEVICE PSC_LEVEL_CHANGE void doRestart(Env& e, UndoStack& u, bool force);
+PSC_DEVICE PSC_LEVEL_CHANGE void nextLevel(Env& e, UndoStack& u);
 
 PSC_DEVICE PSC_INLINE void saveObjects(const Env& e, Snapshot& s) {
     PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) s.obj[o] = e.obj[o];
@@ -112,7 +116,8 @@ PSC_DEVICE PSC_COLD void doUndo(Env& e, UndoStack& u, bool force, bool ignoreDup
     }
 }
 
-PSC_DEVICE PSC_COLD void doRestart(Env& e, UndoStack& u, bool force) {
+#if PSC_DEFINES_LEVEL_CHANGES
+PSC_DEVICE PSC_LEVEL_CHANGE void doRestart(Env& e, UndoStack& u, bool force) {
     if (e.restarting) return;
     if (!force && kNoRestart) return;
     if (e.againing) doUndo(e, u, force, true);
@@ -123,6 +128,7 @@ PSC_DEVICE PSC_COLD void doRestart(Env& e, UndoStack& u, bool force) {
     e.queue = 0;
     e.restarting = 0;
 }
+#endif
 
 // ---- levels
 
@@ -162,7 +168,8 @@ PSC_DEVICE PSC_COLD void loadEntry(Env& e, UndoStack& u) {
     if (kRunRulesOnLevelStart) coldTurn(e, u, true);
 }
 
-PSC_DEVICE PSC_COLD void nextLevel(Env& e, UndoStack& u) {
+#if PSC_DEFINES_LEVEL_CHANGES
+PSC_DEVICE PSC_LEVEL_CHANGE void nextLevel(Env& e, UndoStack& u) {
     e.againing = 0;
     if (e.titleScreen) {
         e.entry = 0;
@@ -177,6 +184,7 @@ PSC_DEVICE PSC_COLD void nextLevel(Env& e, UndoStack& u) {
         goToTitleScreen(e);
     }
 }
+#endif
 
 PSC_DEVICE PSC_INLINE void checkWin(Env& e, UndoStack& u, bool dontDoWin) {
     bool won = (e.queue & kCmdWin) != 0;
