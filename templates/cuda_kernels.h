@@ -94,13 +94,20 @@ extern "C" __global__ void psc_reset_kernel(psc_game::DeviceBatch b, const int* 
 // where those are not NULL; totals go to b.stats; observations of the final
 // state to b.observations when `observe` is set.
 //
-// With the state in registers, three 128-thread blocks an SM (at most 168
-// registers a thread): ptxas would take up to 255 and leave two, and the
-// extra warps hide more latency than the spills cost (on one H100: match3
-// +14 %, traveling +23 %, blocks +24 %, zenpuzzle +13 %, constellationz -6 %;
-// docs/performance.md).  The launch's block is CudaBatch::kBlock, 128.
+// With the state in registers, ptxas would take up to 255 registers a thread
+// and leave two 128-thread blocks an SM; more warps hide more latency than
+// the spills a register cap brings cost.  Four blocks (at most 128
+// registers) where the turn's state (the boards of every object and moving
+// layer, the inside and row-start masks, and the turn's backup of the
+// objects) fits in 64 of them as 64-bit words, else three (at most 168):
+// constellationz (76 words) spills 7.3 kB at 128 and loses 39 % where the
+// others gain up to 48 % (docs/performance.md).  The launch's block is
+// CudaBatch::kBlock, 128.
 #if PSC_STATE_IN_REGISTERS
-#define PSC_RUN_KERNEL_BOUNDS __launch_bounds__(128, 3)
+constexpr int movingLayerCount(unsigned long long bits) { return bits ? static_cast<int>(bits & 1u) + movingLayerCount(bits >> 1) : 0; }
+constexpr int kTurnStateWords = (2 * psc_game::kObjects + 5 * movingLayerCount(psc_game::kMovingLayerBits) + 2) * psc_game::kWords;
+constexpr int kRunKernelBlocksPerSM = kTurnStateWords <= 64 ? 4 : 3;
+#define PSC_RUN_KERNEL_BOUNDS __launch_bounds__(128, kRunKernelBlocksPerSM)
 #else
 #define PSC_RUN_KERNEL_BOUNDS
 #endif
