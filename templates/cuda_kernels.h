@@ -99,14 +99,16 @@ extern "C" __global__ void psc_reset_kernel(psc_game::DeviceBatch b, const int* 
 // the spills a register cap brings cost.  Four blocks (at most 128
 // registers) where the turn's state (the boards of every object and moving
 // layer, the inside and row-start masks, and the turn's backup of the
-// objects) fits in 64 of them as 64-bit words, else three (at most 168):
-// constellationz (76 words) spills 7.3 kB at 128 and loses 39 % where the
-// others gain up to 48 % (docs/performance.md).  The launch's block is
-// CudaBatch::kBlock, 128.
+// objects) is at most 48 64-bit words, leaving a quarter of the registers
+// to the rules, else three (at most 168).  On one H100: match3 (34 words)
+// +14 %, traveling (25) +16 %, blocks (45) +13 % at their best batches;
+// zenpuzzle (57) +1 % there but 3-4 % slower at batches up to 16,384;
+// constellationz (76) spills 7.3 kB at 128 and loses 35 %
+// (docs/performance.md).  The launch's block is CudaBatch::kBlock, 128.
 #if PSC_STATE_IN_REGISTERS
 constexpr int movingLayerCount(unsigned long long bits) { return bits ? static_cast<int>(bits & 1u) + movingLayerCount(bits >> 1) : 0; }
 constexpr int kTurnStateWords = (2 * psc_game::kObjects + 5 * movingLayerCount(psc_game::kMovingLayerBits) + 2) * psc_game::kWords;
-constexpr int kRunKernelBlocksPerSM = kTurnStateWords <= 64 ? 4 : 3;
+constexpr int kRunKernelBlocksPerSM = kTurnStateWords <= 48 ? 4 : 3;
 #define PSC_RUN_KERNEL_BOUNDS __launch_bounds__(128, kRunKernelBlocksPerSM)
 #else
 #define PSC_RUN_KERNEL_BOUNDS

@@ -81,17 +81,18 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--psc", required=True)
     ap.add_argument("--games", default="bench/games", help="the benchmark games' folder")
-    ap.add_argument("--gpu-bench", nargs="+", required=True)
+    ap.add_argument("--gpu-bench", nargs="+", required=True, help="psc bench outputs (GAME.txt) or folders of them; a later one of a game wins")
     ap.add_argument("--cpu-bench", nargs="+", required=True)
     ap.add_argument("--buildtime", required=True)
     a = ap.parse_args()
     cpu = cpu_bench(a.cpu_bench)
     builds = build_times(a.buildtime)
     bench = {}
-    for folder in a.gpu_bench:
-        for f in os.listdir(folder):
+    for path in a.gpu_bench:
+        files = [os.path.join(path, f) for f in os.listdir(path)] if os.path.isdir(path) else [path]
+        for f in files:
             if f.endswith(".txt"):
-                bench[os.path.splitext(f)[0]] = gpu_bench(os.path.join(folder, f))
+                bench[os.path.splitext(os.path.basename(f))[0]] = gpu_bench(f)
     games = sorted(bench, key=lambda g: -bench[g]["best"])
     print("| game | layout | GPU steps/s, best batch | " + " | ".join(f"batch {b:,}" for b in SMALL_BATCHES) +
           " | CPU steps/s, 1 thread | GPU / CPU | PuzzleJAX | GPU / PuzzleJAX | cold CUDA build |")
