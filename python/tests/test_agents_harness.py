@@ -6,7 +6,7 @@ import json
 
 import pytest
 from chat_stub import ChatStub, Close, Garbage, Reply, Sleep, Status
-from helpers import GAMES
+from helpers import GAMES, REPO
 
 import psc
 from psc.agents import ChatClient, ChatError
@@ -151,6 +151,16 @@ def test_the_solver_agent_wins_every_level(tmp_path):
     assert summary["win_rate"] == 1.0
     episodes = read_lines(tmp_path / "solver" / "episodes.jsonl")
     assert all(e["solution_length"] == e["start_distance"] for e in episodes)
+
+
+def test_a_level_its_start_wins_is_won_before_any_turn(tmp_path):
+    game = str(REPO / "tests" / "search" / "games" / "start_wins.txt")
+    config = EvalConfig(game=game, out=str(tmp_path / "start"), levels=[0, 1], runs=1, agent="solver", max_steps=10)
+    summary = Harness(config).run()
+    assert summary["win_rate"] == 1.0
+    episodes = {e["level"]: e for e in read_lines(tmp_path / "start" / "episodes.jsonl")}
+    assert episodes[0]["won"] and episodes[0]["steps"] == 0 and episodes[0]["solution_length"] == 0
+    assert episodes[1]["won"] and episodes[1]["steps"] == 2 and episodes[1]["solution_length"] == 2
 
 
 def test_the_command_line(tmp_path, capsys):

@@ -194,9 +194,11 @@ class Harness:
         seeds = [episode_seed(run, level) for level, run in wave]
         texts, _ = env.reset(seeds, levels)
         slots = []
-        for (level, run), seed in zip(wave, seeds):
+        for i, ((level, run), seed) in enumerate(zip(wave, seeds)):
             episode = Episode(level, run, seed, self.game.actions)
             slots.append(_Slot(episode, None, InputPath(self.info.uses_random), collections.deque(maxlen=config.history)))
+            # A level its start wins is over before the agent's first turn, as in the original engine.
+            slots[-1].won = slots[-1].ended = env.start_won(i)
         # Agents are made in parallel: the solver agent's search runs then.
         for slot, agent in zip(slots, pool.map(self.make_agent, [s.episode for s in slots])):
             slot.agent = agent

@@ -198,6 +198,12 @@ class TextVectorEnv:
         """Environment i's current text."""
         return self._texts[i]
 
+    def start_won(self, i: int) -> bool:
+        """Whether environment i's level was won by its start, before any
+        input (a `run_rules_on_level_start` turn's `again` chain): the
+        reference engine shows the next entry before the first input."""
+        return self.env.start_won(i)
+
     def record(self, i: int) -> dict:
         """Environment i's current state record (psc_dump_state: the corpus' form)."""
         return self._records[i]
