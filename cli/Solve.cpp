@@ -1,8 +1,10 @@
 #include "Solve.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -150,6 +152,8 @@ int runSolve(const SolveCommandOptions& o) {
     so.space.seed = o.seed;
     so.fromInputs = o.fromInputs;
     bool allSolved = true;
+    std::vector<int> unsolved;
+    const auto started = std::chrono::steady_clock::now();
     for (int level : levels) {
         Plugin* plugin = pluginFor(level);
         if (!plugin) return 2;
@@ -165,6 +169,7 @@ int runSolve(const SolveCommandOptions& o) {
         }
         progress.clear();
         allSolved = allSolved && r.status == search::Status::Solved;
+        if (r.status != search::Status::Solved) unsolved.push_back(level);
         const int entry = plugin->info().level_entries[level];
         if (o.format == "json") {
             fmt::print("{}\n", record(r, level, entry, o.algorithm, o.backend).dump());
@@ -180,6 +185,11 @@ int runSolve(const SolveCommandOptions& o) {
                        r.unique, r.seconds);
         }
         std::fflush(stdout);
+    }
+    if (o.format != "json" && levels.size() > 1) {
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        fmt::print("{} of {} levels solved in {:.1f} s{}\n", levels.size() - unsolved.size(), levels.size(), seconds,
+                   unsolved.empty() ? "" : fmt::format(" (not solved: {})", fmt::join(unsolved, ", ")));
     }
     return allSolved ? 0 : 1;
 }

@@ -132,6 +132,15 @@ for algorithm in ["astar", "wastar", "greedy", "beam", "portfolio"]:
 r = psc.solve(GAMES / "start_wins.txt", 0, psc_binary=PSC)
 check(r["status"] == "solved" and r["solution"] == "" and r.get("start_won") is True, f"psc.solve on a start that wins: {r}")
 
+# The text format: a line a level, then a closing count of several levels.
+done = subprocess.run([PSC, "solve", str(GAMES / "push.txt"), "--all-levels", "--quiet"], capture_output=True, text=True)
+lines = done.stdout.splitlines()
+check(done.returncode == 1 and len(lines) == 4 and lines[0].startswith("level 0 (entry 0): solved in 2 inputs: rr")
+      and "exhausted" in lines[1] and lines[3].startswith("2 of 3 levels solved in ") and lines[3].endswith("(not solved: 1)"),
+      f"text format: {lines}")
+done = subprocess.run([PSC, "solve", str(GAMES / "maze.txt"), "--level", "1", "--quiet"], capture_output=True, text=True)
+check(done.returncode == 0 and len(done.stdout.splitlines()) == 1, f"text format, one level: no count ({done.stdout})")
+
 # Levels of different board sizes get a plugin each (built when the first of
 # them comes up), and every level is still searched and reported in order.
 code, records, err = solve(GAMES / "corridors.txt", "--all-levels", "--verbose")
