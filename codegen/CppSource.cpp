@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "CodeWriter.h"
@@ -53,6 +54,7 @@ struct GpuCode {
     bool inGroups = false;     // the memory layout, each rule group on a copy in registers (templates/core.h)
     int units = 1;             // CUDA compile units (templates/core.h)
     int turnUnit = 0;          // the unit compiling the turn (the last, when there are several), or 0
+    int runBlocks = 0;         // the stepping kernel's 128-thread blocks an SM (its launch bounds), or 0: none
     RuleUnits rules;           // where the rules go (with the groups layout, which groups stay apart)
 };
 
@@ -167,6 +169,8 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
         out.line(fmt::format("#define PSC_COMPILE_UNITS {}  // programs NVRTC compiles at once (templates/core.h)",
                              gpu.units));
         out.line(fmt::format("#define PSC_TURN_UNIT {}  // the unit that compiles the turn (0: unit 0)", gpu.turnUnit));
+        out.line(fmt::format("#define PSC_RUN_KERNEL_BLOCKS {}  // the stepping kernel's blocks an SM (0: no launch bounds)",
+                             gpu.runBlocks));
         out.line(fmt::format("#define PSC_SEARCH_KERNELS {}  // psc_expand on the GPU (--search-kernels)",
                              o.searchKernels ? 1 : 0));
     }
@@ -560,6 +564,28 @@ int boardWords(const ir::Game& game, const SourceOptions& options) {
 
 namespace {
 
+// With the state in registers ptxas would take up to 255 registers a thread
+// and leave two 128-thread blocks an SM; more warps hide more latency than
+// the spills of a register cap cost.  Four blocks (at most 128 registers)
+// where the turn's state (the boards of every object and moving layer, the
+// inside and row-start masks, and the turn's backup of the objects) is at
+// most 48 64-bit words, leaving a quarter of the registers to the rules, and
+// the rules' code times board words is at most 20 k, below the layout's
+// budget, where ptxas's extra spilling does not slow the build; else three
+// (at most 168).  On one H100 (docs/performance.md), against three: match3
+// (34 words, 16.5 k of code) +14 % and blocks (45, 1.4 k) +13 % at their
+// best batches; traveling (25, 21.8 k) +16 %, but its build 0.4-0.7 s
+// slower (2.7 -> 3.1 s); zenpuzzle (57) +1 % but 3-4 % slower at batches
+// up to 16,384; constellationz (76) spills 7.3 kB at 128 and loses 35 %.
+int registerLayoutBlocks(const ir::Game& game, int words, size_t ruleBytes) {
+    constexpr int kFourBlockStateWords = 48;
+    constexpr size_t kFourBlockCodeWeight = 20000;
+    const int movingLayers = std::popcount(movingLayerBits(game));
+    const int stateWords = (2 * std::max(1, game.objectCount) + 5 * movingLayers + 2) * words;
+    const bool small = stateWords <= kFourBlockStateWords && ruleBytes * static_cast<size_t>(words) <= kFourBlockCodeWeight;
+    return small ? 4 : 3;
+}
+
 GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFormChoice& form) {
     const size_t ruleBytes = form.codeBytes;
     const int words = boardWords(game, options);
@@ -587,6 +613,7 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
         constexpr size_t kRegisterCodeBudget = 22000;
         gpu.inRegisters = words <= kMaxUnrolledBoardWords && ruleBytes * static_cast<size_t>(words) <= kRegisterCodeBudget;
     }
+    if (gpu.inRegisters) gpu.runBlocks = registerLayoutBlocks(game, words, ruleBytes);
     const int groups = static_cast<int>(game.rules.size() + game.lateRules.size());
     if (gpu.inRegisters || groups == 0) return gpu;
 

@@ -94,22 +94,12 @@ extern "C" __global__ void psc_reset_kernel(psc_game::DeviceBatch b, const int* 
 // where those are not NULL; totals go to b.stats; observations of the final
 // state to b.observations when `observe` is set.
 //
-// With the state in registers, ptxas would take up to 255 registers a thread
-// and leave two 128-thread blocks an SM; more warps hide more latency than
-// the spills a register cap brings cost.  Four blocks (at most 128
-// registers) where the turn's state (the boards of every object and moving
-// layer, the inside and row-start masks, and the turn's backup of the
-// objects) is at most 48 64-bit words, leaving a quarter of the registers
-// to the rules, else three (at most 168).  On one H100: match3 (34 words)
-// +14 %, traveling (25) +16 %, blocks (45) +13 % at their best batches;
-// zenpuzzle (57) +1 % there but 3-4 % slower at batches up to 16,384;
-// constellationz (76) spills 7.3 kB at 128 and loses 35 %
-// (docs/performance.md).  The launch's block is CudaBatch::kBlock, 128.
-#if PSC_STATE_IN_REGISTERS
-constexpr int movingLayerCount(unsigned long long bits) { return bits ? static_cast<int>(bits & 1u) + movingLayerCount(bits >> 1) : 0; }
-constexpr int kTurnStateWords = (2 * psc_game::kObjects + 5 * movingLayerCount(psc_game::kMovingLayerBits) + 2) * psc_game::kWords;
-constexpr int kRunKernelBlocksPerSM = kTurnStateWords <= 48 ? 4 : 3;
-#define PSC_RUN_KERNEL_BOUNDS __launch_bounds__(128, kRunKernelBlocksPerSM)
+// The registers layout's launch bounds: PSC_RUN_KERNEL_BLOCKS 128-thread
+// blocks an SM, chosen by psc from the state's size and the rules' code
+// (codegen/CppSource.cpp's registerLayoutBlocks).  The launch's block is
+// CudaBatch::kBlock, 128.
+#if PSC_RUN_KERNEL_BLOCKS > 0
+#define PSC_RUN_KERNEL_BOUNDS __launch_bounds__(128, PSC_RUN_KERNEL_BLOCKS)
 #else
 #define PSC_RUN_KERNEL_BOUNDS
 #endif
