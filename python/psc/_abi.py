@@ -1,4 +1,4 @@
-"""ctypes mirror of runtime/psc_plugin.h (ABI version 4).
+"""ctypes mirror of runtime/psc_plugin.h (ABI version 5).
 
 The structs must match the header field for field; ctypes applies the same
 C alignment rules, so the layouts agree on every platform psc builds for.
