@@ -151,7 +151,6 @@ int runSolve(const SolveCommandOptions& o) {
     so.space.device = o.device;
     so.space.seed = o.seed;
     so.fromInputs = o.fromInputs;
-    bool allSolved = true;
     std::vector<int> unsolved;
     const auto started = std::chrono::steady_clock::now();
     for (int level : levels) {
@@ -168,7 +167,6 @@ int runSolve(const SolveCommandOptions& o) {
             return 2;
         }
         progress.clear();
-        allSolved = allSolved && r.status == search::Status::Solved;
         if (r.status != search::Status::Solved) unsolved.push_back(level);
         const int entry = plugin->info().level_entries[level];
         if (o.format == "json") {
@@ -191,7 +189,7 @@ int runSolve(const SolveCommandOptions& o) {
         fmt::print("{} of {} levels solved in {:.1f} s{}\n", levels.size() - unsolved.size(), levels.size(), seconds,
                    unsolved.empty() ? "" : fmt::format(" (not solved: {})", fmt::join(unsolved, ", ")));
     }
-    return allSolved ? 0 : 1;
+    return unsolved.empty() ? 0 : 1;
 }
 
 }  // namespace psc::cli
