@@ -194,8 +194,8 @@ std::string recheck(const RowLayout& row) {
 
 // ---- replacements
 
-void emitObjectUpdates(CodeWriter& out, const Game& g, const BitSet& set, const BitSet& clear) {
-    for (const ObjectUpdate& u : objectUpdates(g, set, clear)) {
+void emitObjectUpdates(CodeWriter& out, const Game& g, const BitSet& set, const BitSet& clear, const CellFacts* facts) {
+    for (const ObjectUpdate& u : objectUpdates(g, set, clear, facts)) {
         if (u.kind == ObjectUpdate::kPutLayer) {
             out.line(fmt::format("ch |= putLayer{}(e, p, {});", u.layerOrObject, u.keepOrValue));
         } else {
@@ -204,8 +204,9 @@ void emitObjectUpdates(CodeWriter& out, const Game& g, const BitSet& set, const 
     }
 }
 
-void emitMovementUpdates(CodeWriter& out, const Game& g, const ir::Replacement& r, std::optional<int> entityLayer) {
-    for (const MovementUpdate& u : movementUpdates(g, r, entityLayer)) {
+void emitMovementUpdates(CodeWriter& out, const Game& g, const ir::Replacement& r, std::optional<int> entityLayer,
+                         const CellFacts* facts) {
+    for (const MovementUpdate& u : movementUpdates(g, r, entityLayer, facts)) {
         if (u.randomDirection) {
             out.line(fmt::format("ch |= putMovement(e, p, {}, {}u, {}u | (1u << rd{}));", u.layer, u.clear, u.set, u.layer));
         } else {
@@ -235,8 +236,13 @@ void emitRigidClaim(CodeWriter& out, const Game& g, const Rule& rule, const ir::
     out.close();
 }
 
-void emitReplacement(CodeWriter& out, const Game& g, const Rule& rule, const CellPattern& cell, const std::string& pos) {
+// `knowsCell`: no earlier replacement of the same match can have changed the
+// cell, so what its pattern says of it holds (CellFacts).
+void emitReplacement(CodeWriter& out, const Game& g, const Rule& rule, const CellPattern& cell, const std::string& pos,
+                     bool knowsCell) {
     const ir::Replacement& r = *cell.replacement;
+    const std::optional<CellFacts> factsOfCell = knowsCell ? std::optional<CellFacts>(cellFacts(g, cell)) : std::nullopt;
+    const CellFacts* facts = factsOfCell ? &*factsOfCell : nullptr;
     out.open("");
     out.line("const int p = " + pos + ";");
     const std::vector<int> candidates = r.randomEntity.bits();
@@ -246,8 +252,8 @@ void emitReplacement(CodeWriter& out, const Game& g, const Rule& rule, const Cel
     }
     out.line("bool ch = false;");
     if (candidates.empty()) {
-        emitObjectUpdates(out, g, r.set, r.clear);
-        emitMovementUpdates(out, g, r, std::nullopt);
+        emitObjectUpdates(out, g, r.set, r.clear, facts);
+        emitMovementUpdates(out, g, r, std::nullopt, facts);
     } else {
         out.open("switch (pick)");
         for (size_t i = 0; i < candidates.size(); ++i) {
@@ -259,8 +265,8 @@ void emitReplacement(CodeWriter& out, const Game& g, const Rule& rule, const Cel
             if (layer >= 0) clear |= g.layerMasks[static_cast<size_t>(layer)];
             out.open(fmt::format("case {}:", i));
             out.line(fmt::format("// {}", g.objects[static_cast<size_t>(id)].name));
-            emitObjectUpdates(out, g, set, clear);
-            emitMovementUpdates(out, g, r, layer >= 0 ? std::optional<int>(layer) : std::nullopt);
+            emitObjectUpdates(out, g, set, clear, facts);
+            emitMovementUpdates(out, g, r, layer >= 0 ? std::optional<int>(layer) : std::nullopt, facts);
             out.line("break;");
             out.close();
         }
@@ -271,11 +277,42 @@ void emitReplacement(CodeWriter& out, const Game& g, const Rule& rule, const Cel
     out.close();
 }
 
-void emitApplyRow(CodeWriter& out, const Game& g, const Rule& rule, const RowLayout& row) {
+// A row's cells lie at distinct positions, but another row's may share one:
+// only the first row applied (row 0) knows its cells as its pattern saw them.
+void emitApplyRow(CodeWriter& out, const Game& g, const Rule& rule, const RowLayout& row, bool firstRow) {
     for (size_t i = 0; i < row.cells->size(); ++i) {
         const CellPattern& c = (*row.cells)[i];
         if (c.ellipsis || !c.replacement) continue;
-        emitReplacement(out, g, rule, c, row.position(i));
+        emitReplacement(out, g, rule, c, row.position(i), firstRow);
+    }
+}
+
+// Whether the rule's matches can all be applied at once, as board
+// operations, instead of one after another: a single cell changes nothing
+// outside itself, so applying it at one position leaves every other match
+// standing, and the order does not matter unless the replacement draws from
+// the random stream or claims a rigid body.
+bool appliesAtOnce(const Rule& rule) {
+    if (rule.rigid || rule.rows.size() != 1 || rule.rows[0].size() != 1) return false;
+    const CellPattern& cell = rule.rows[0][0];
+    return cell.replacement && cell.replacement->randomEntity.none() && cell.replacement->randomDirMask.none();
+}
+
+// The replacement at every position of row0 (appliesAtOnce).
+void emitApplyAtOnce(CodeWriter& out, const Game& g, const ir::Replacement& r, const std::optional<CellFacts>& facts) {
+    const CellFacts* known = facts ? &*facts : nullptr;
+    auto assign = [&](int id, bool value) {
+        out.line(fmt::format("changed |= e.obj[{}].assignWhere(row0, {});", id, value ? "true" : "false"));
+    };
+    for (const ObjectUpdate& u : objectUpdates(g, r.set, r.clear, known)) {
+        if (u.kind == ObjectUpdate::kAssign) {
+            assign(u.layerOrObject, u.keepOrValue != 0);
+        } else {
+            out.line(fmt::format("changed |= putLayer{}Where(e, row0, {});", u.layerOrObject, u.keepOrValue));
+        }
+    }
+    for (const MovementUpdate& u : movementUpdates(g, r, std::nullopt, known)) {
+        out.line(fmt::format("changed |= putMovementWhere(e, row0, {}, {}u, {}u);", u.layer, u.clear, u.set));
     }
 }
 
@@ -334,8 +371,9 @@ void emitRowSetup(CodeWriter& out, const Rule& rule, const std::string& noMatch)
     out.line("if (" + joinWith(empty, " || ") + ") return " + noMatch + ";");
 }
 
+// `layersExclusive`: layersHoldOneObject(g), so that a cell's pattern tells what it holds.
 void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames& names, bool inRandomGroup,
-              const std::vector<std::string>& messages, const std::string& kind) {
+              const std::vector<std::string>& messages, const std::string& kind, bool layersExclusive) {
     out.line("// line " + std::to_string(rule.line) + ": " + ir::ruleText(g, rule));
     const uint32_t commands = commandBits(rule);
     if (!inRandomGroup) {
@@ -343,14 +381,18 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
         out.line("(void)t;");
         emitRowSetup(out, rule, "false");
         out.line("bool changed = false;");
-        if (rule.hasReplacements) {
+        if (appliesAtOnce(rule)) {
+            emitApplyAtOnce(out, g, *rule.rows[0][0].replacement,
+                            layersExclusive ? std::optional<CellFacts>(cellFacts(g, rule.rows[0][0])) : std::nullopt);
+            if (commands) out.line(queueStatement(rule, commands, messages));
+        } else if (rule.hasReplacements) {
             out.line("bool first = true;");
             emitTupleLoops(out, rule, [&](const std::vector<RowLayout>& rows) {
                 std::vector<std::string> checks;
                 for (const auto& row : rows) checks.push_back(recheck(row));
                 out.line("if (!first && !(" + joinWith(checks, " && ") + ")) continue;");
                 out.line("first = false;");
-                for (const auto& row : rows) emitApplyRow(out, g, rule, row);
+                for (const auto& row : rows) emitApplyRow(out, g, rule, row, layersExclusive && &row == &rows.front());
             });
             if (commands) out.line("if (!first) " + queueStatement(rule, commands, messages));
         } else {
@@ -390,7 +432,7 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
     out.line("long long index = 0;");
     emitTupleLoops(out, rule, [&](const std::vector<RowLayout>& rows) {
         out.open("if (index++ == n)");
-        for (const auto& row : rows) emitApplyRow(out, g, rule, row);
+        for (const auto& row : rows) emitApplyRow(out, g, rule, row, layersExclusive && &row == &rows.front());
         out.close();
     });
     if (commands) out.line(queueStatement(rule, commands, messages));
@@ -479,7 +521,7 @@ struct GroupLayout {
 // hold a group with its rules inlined (the groups layout's units 1..groupUnits).
 void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int indent, const Game& g,
                const ir::RuleGroup& group, size_t index, bool late, const GroupLayout& layout,
-               std::set<std::string>& used, const std::vector<std::string>& messages) {
+               std::set<std::string>& used, const std::vector<std::string>& messages, bool layersExclusive) {
     const std::string kind = layout.apart ? "PSC_RULE_APART" : "PSC_RULE";
     const std::string name = groupName(group, index, late);
     std::vector<RuleNames> names;
@@ -494,7 +536,7 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
         const std::vector<uint64_t> needs = neededPresence(g, rule, words);
         names.push_back({base, base + "_count", base + "_apply_nth", needs == groupNeeds ? "" : presenceTest(g, needs)});
         CodeWriter code(indent);
-        emitRule(code, g, rule, names.back(), group.random, messages, kind);
+        emitRule(code, g, rule, names.back(), group.random, messages, kind, layersExclusive);
         const RuleNames& n = names.back();
         rules.push_back({code.text(), group.random ? std::vector<std::string>{
                                                          "PSC_DEVICE " + kind + " long long " + n.count + "(const Env& e);",
@@ -618,6 +660,7 @@ void emitRules(CodeWriter& out, const Game& game, const RuleUnits& layout, std::
     std::vector<bool> inlined;  // of pieces: a group with its rules inlined (the groups layout)
     std::set<std::string> used;
     const std::vector<std::string> messages = ruleMessages(game);
+    const bool layersExclusive = layersHoldOneObject(game);
     auto emitGroupPieces = [&](const ir::RuleGroup& group, size_t index, bool late) {
         const size_t number = index + (late ? game.rules.size() : 0);
         GroupLayout groupLayout;
@@ -625,7 +668,7 @@ void emitRules(CodeWriter& out, const Game& game, const RuleUnits& layout, std::
         groupLayout.apart = layout.groups && number < layout.apart.size() && layout.apart[number];
         groupLayout.partBytes = layout.partBytes;
         const size_t before = pieces.size();
-        emitGroup(pieces, inlined, out.indent(), game, group, index, late, groupLayout, used, messages);
+        emitGroup(pieces, inlined, out.indent(), game, group, index, late, groupLayout, used, messages, layersExclusive);
         if (groupBytes) {
             size_t bytes = 0;
             for (size_t i = before; i < pieces.size(); ++i) bytes += pieces[i].text.size();

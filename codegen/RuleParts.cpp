@@ -6,9 +6,53 @@
 
 namespace psc::codegen {
 
-std::vector<ObjectUpdate> objectUpdates(const ir::Game& g, const BitSet& set, const BitSet& clear) {
+bool layersHoldOneObject(const ir::Game& g) {
+    bool one = true;
+    forEachReplacingCell(g, [&](const ir::CellPattern& cell) {
+        for (const BitSet& layer : g.layerMasks) {
+            BitSet here = cell.replacement->set;
+            here &= layer;
+            if (here.count() > 1) one = false;
+        }
+    });
+    return one;
+}
+
+CellFacts cellFacts(const ir::Game& g, const ir::CellPattern& cell) {
+    CellFacts f;
+    f.possible = BitSet(static_cast<size_t>(g.objectCount));
+    for (int id = 0; id < g.objectCount; ++id) f.possible.set(static_cast<size_t>(id));
+    f.possible.clear(cell.missing);
+    f.present = cell.present;
+    auto confineLayer = [&](const BitSet& within) {
+        for (const BitSet& layer : g.layerMasks) {
+            if (!within.subsetOf(layer) || within.none()) continue;
+            BitSet others = layer;
+            others.clear(within);
+            f.possible.clear(others);
+        }
+    };
+    cell.present.forEach([&](size_t id) {
+        BitSet one(static_cast<size_t>(g.objectCount));
+        one.set(id);
+        confineLayer(one);
+    });
+    for (const BitSet& any : cell.anyOf) confineLayer(any);
+    f.movementsPresent = cell.movementsPresent;
+    f.movementsMissing = cell.movementsMissing;
+    return f;
+}
+
+std::vector<ObjectUpdate> objectUpdates(const ir::Game& g, const BitSet& set, const BitSet& clearAsked,
+                                        const CellFacts* facts) {
     std::vector<ObjectUpdate> out;
     BitSet handled(static_cast<size_t>(g.objectCount));
+    BitSet clear = clearAsked;
+    BitSet setNew = set;
+    if (facts) {
+        clear &= facts->possible;
+        setNew.clear(facts->present);
+    }
     for (size_t L = 0; L < g.layerMasks.size(); ++L) {
         const BitSet& layer = g.layerMasks[L];
         if (layer.none() || !layer.subsetOf(clear)) continue;
@@ -22,19 +66,24 @@ std::vector<ObjectUpdate> objectUpdates(const ir::Game& g, const BitSet& set, co
     clear.forEach([&](size_t id) {
         if (!set.test(id) && !handled.test(id)) out.push_back({ObjectUpdate::kAssign, static_cast<int>(id), 0});
     });
-    set.forEach([&](size_t id) {
+    setNew.forEach([&](size_t id) {
         if (!handled.test(id)) out.push_back({ObjectUpdate::kAssign, static_cast<int>(id), 1});
     });
     return out;
 }
 
-std::vector<MovementUpdate> movementUpdates(const ir::Game& g, const ir::Replacement& r, std::optional<int> entityLayer) {
+std::vector<MovementUpdate> movementUpdates(const ir::Game& g, const ir::Replacement& r, std::optional<int> entityLayer,
+                                            const CellFacts* facts) {
     std::vector<MovementUpdate> out;
     for (int L = 0; L < g.layerCount; ++L) {
         const bool randomDir = r.randomDirMask.test(static_cast<size_t>(5 * L));
-        const uint32_t set = r.movementsSet.field(L);
+        uint32_t set = r.movementsSet.field(L);
         uint32_t clear = r.movementsClear.field(L) | r.movementsLayerMask.field(L) | (entityLayer == L ? 31u : 0u);
         clear &= ~set;
+        if (facts && !randomDir) {
+            set &= ~facts->movementsPresent.field(L);
+            clear &= ~facts->movementsMissing.field(L);
+        }
         if (randomDir || set || clear) out.push_back({L, clear, set, randomDir});
     }
     return out;

@@ -23,9 +23,30 @@ struct ObjectUpdate {
     int layerOrObject;
     int keepOrValue;  // the object kept (-1: none), or the value assigned (0 or 1)
 };
+// What a cell pattern says of its cell while the match it is part of is
+// applied (before any of that match's replacements touch the cell): the
+// objects the cell may hold, those it holds, and movement bits it has or has
+// not.  A collision layer holds one object a cell, so an object required, or
+// a property of one layer, rules out the layer's other objects.
+struct CellFacts {
+    BitSet possible;
+    BitSet present;
+    BitSet movementsPresent;
+    BitSet movementsMissing;
+};
+// Valid only where layersHoldOneObject(game).
+CellFacts cellFacts(const ir::Game& game, const ir::CellPattern& cell);
+// Whether no cell ever holds two objects of one layer: levels cannot place
+// two (a glyph keeps one object a layer), so only a replacement that sets two
+// objects of one layer (an error the reference plays on with) can.
+bool layersHoldOneObject(const ir::Game& game);
+
 // Layers cleared whole come first (in layer order), then single objects
-// cleared, then set.
-std::vector<ObjectUpdate> objectUpdates(const ir::Game& game, const BitSet& set, const BitSet& clear);
+// cleared, then set.  With `facts`, updates that cannot change the cell are
+// left out: clearing an object it cannot hold, setting one it holds; a layer
+// is cleared whole only where it may hold any of its objects.
+std::vector<ObjectUpdate> objectUpdates(const ir::Game& game, const BitSet& set, const BitSet& clear,
+                                        const CellFacts* facts = nullptr);
 
 // One layer's movement field: bits `clear` cleared, `set` set (set wins),
 // plus the bit of a direction drawn at random when `randomDirection`.
@@ -36,7 +57,9 @@ struct MovementUpdate {
     bool randomDirection;
 };
 // `entityLayer`: the layer of a `random` object just placed, cleared whole.
-std::vector<MovementUpdate> movementUpdates(const ir::Game& game, const ir::Replacement& r, std::optional<int> entityLayer);
+// With `facts`, bits the cell has are not set again nor bits it lacks cleared.
+std::vector<MovementUpdate> movementUpdates(const ir::Game& game, const ir::Replacement& r, std::optional<int> entityLayer,
+                                            const CellFacts* facts = nullptr);
 
 // Calls f(cell) for each cell pattern with a replacement, in every rule, early
 // and late.

@@ -36,7 +36,8 @@ int movementRef(size_t bit) { return -static_cast<int>(bit) - 1; }
 // objects repeats most of its cells).
 class TableWriter {
 public:
-    TableWriter(const Game& g, std::vector<std::string> messages) : g_(g), messages_(std::move(messages)) {}
+    TableWriter(const Game& g, std::vector<std::string> messages)
+        : g_(g), messages_(std::move(messages)), layersExclusive_(layersHoldOneObject(g)) {}
 
     // Appends a rule's records; returns its offset.
     int addRule(const Rule& rule) {
@@ -44,7 +45,9 @@ public:
         std::vector<int> record = {directionCode(rule.direction), flags, static_cast<int>(commandBits(rule)),
                                    messageIndex(rule, messages_), rigidGroupClaim(g_, rule),
                                    static_cast<int>(rule.rows.size())};
-        for (const auto& row : rule.rows) record.push_back(addRow(rule, row));
+        // Rows are applied in order and another row may share a cell with an
+        // earlier one: only row 0's cells are as their patterns saw them (CellFacts).
+        for (const auto& row : rule.rows) record.push_back(addRow(rule, row, layersExclusive_ && &row == &rule.rows.front()));
         maxRows_ = std::max(maxRows_, static_cast<int>(rule.rows.size()));
         int saved = 0;
         for (const auto& row : rule.rows) {
@@ -74,25 +77,27 @@ private:
         return it->second;
     }
 
-    int addRow(const Rule& rule, const std::vector<CellPattern>& cells) {
+    int addRow(const Rule& rule, const std::vector<CellPattern>& cells, bool knowsCells) {
         std::vector<int> ellipses;
         for (size_t i = 0; i < cells.size(); ++i) {
             if (cells[i].ellipsis) ellipses.push_back(static_cast<int>(i));
         }
         std::vector<int> record = {static_cast<int>(cells.size()), ellipses.empty() ? -1 : ellipses[0],
                                    ellipses.size() < 2 ? -1 : ellipses[1]};
-        for (const auto& c : cells) record.push_back(c.ellipsis ? -1 : addCell(rule, c));
+        for (const auto& c : cells) record.push_back(c.ellipsis ? -1 : addCell(rule, c, knowsCells));
         return shared(record);
     }
 
-    int addCell(const Rule& rule, const CellPattern& c) {
+    int addCell(const Rule& rule, const CellPattern& c, bool knowsCell) {
         std::vector<std::vector<int>> terms;
         c.present.forEach([&](size_t id) { terms.push_back({static_cast<int>(id)}); });
         for (const auto& any : c.anyOf) terms.push_back(any.bits());
         c.movementsPresent.forEach([&](size_t bit) { terms.push_back({movementRef(bit)}); });
         std::vector<int> excluded = c.missing.bits();
         c.movementsMissing.forEach([&](size_t bit) { excluded.push_back(movementRef(bit)); });
-        std::vector<int> record = {c.replacement ? addReplacement(rule, *c.replacement) : -1, static_cast<int>(terms.size())};
+        const std::optional<CellFacts> facts = knowsCell ? std::optional<CellFacts>(cellFacts(g_, c)) : std::nullopt;
+        std::vector<int> record = {c.replacement ? addReplacement(rule, *c.replacement, facts ? &*facts : nullptr) : -1,
+                                   static_cast<int>(terms.size())};
         for (const auto& term : terms) {
             record.push_back(static_cast<int>(term.size()));
             record.insert(record.end(), term.begin(), term.end());
@@ -114,7 +119,7 @@ private:
         }
     }
 
-    int addReplacement(const Rule& rule, const ir::Replacement& r) {
+    int addReplacement(const Rule& rule, const ir::Replacement& r, const CellFacts* facts) {
         const std::vector<int> candidates = r.randomEntity.bits();
         std::vector<int> record = {static_cast<int>(candidates.size())};
         std::vector<int> randomDirections;
@@ -124,7 +129,7 @@ private:
         record.push_back(static_cast<int>(randomDirections.size()));
         record.insert(record.end(), randomDirections.begin(), randomDirections.end());
         if (candidates.empty()) {
-            addUpdates(record, objectUpdates(g_, r.set, r.clear), movementUpdates(g_, r, std::nullopt));
+            addUpdates(record, objectUpdates(g_, r.set, r.clear, facts), movementUpdates(g_, r, std::nullopt, facts));
         } else {
             for (int id : candidates) {
                 const int layer = layerOfObject(g_, id);
@@ -132,8 +137,8 @@ private:
                 BitSet clear = r.clear;
                 set.set(static_cast<size_t>(id));
                 if (layer >= 0) clear |= g_.layerMasks[static_cast<size_t>(layer)];
-                addUpdates(record, objectUpdates(g_, set, clear),
-                           movementUpdates(g_, r, layer >= 0 ? std::optional<int>(layer) : std::nullopt));
+                addUpdates(record, objectUpdates(g_, set, clear, facts),
+                           movementUpdates(g_, r, layer >= 0 ? std::optional<int>(layer) : std::nullopt, facts));
             }
         }
         const RigidClaim claim = rigidClaim(g_, rule, r);
@@ -146,6 +151,7 @@ private:
     const std::vector<std::string> messages_;
     std::vector<int> data_;
     std::map<std::vector<int>, int> written_;
+    bool layersExclusive_;
     int maxRows_ = 0;
     int maxSaved_ = 0;
 };

@@ -265,6 +265,16 @@ struct Board {
         else clear(p);
         return was != v;
     }
+    // Sets every position of `where` to v; returns whether any changed.
+    PSC_DEVICE PSC_INLINE bool assignWhere(const Board& where, bool v) {
+        u64 changed = 0;
+        PSC_UNROLL for (int i = 0; i < kWords; ++i) {
+            const u64 next = v ? (w[i] | where.w[i]) : (w[i] & ~where.w[i]);
+            changed |= next ^ w[i];
+            w[i] = next;
+        }
+        return changed != 0;
+    }
     // The lowest set position (the board must not be empty), and clearing it.
     PSC_DEVICE PSC_INLINE int lowest() const {
         PSC_UNROLL for (int i = 0; i < kWords - 1; ++i) {
@@ -585,6 +595,16 @@ PSC_DEVICE PSC_INLINE bool putMovement(Env& e, int p, int layer, u32 clear, u32 
     PSC_UNROLL for (int k = 0; k < 5; ++k) {
         if ((set >> k) & 1u) ch |= e.mov[5 * layer + k].assign(p, true);
         else if ((clear >> k) & 1u) ch |= e.mov[5 * layer + k].assign(p, false);
+    }
+    return ch;
+}
+
+// putMovement at every position of `where` at once.
+PSC_DEVICE PSC_INLINE bool putMovementWhere(Env& e, const Board& where, int layer, u32 clear, u32 set) {
+    bool ch = false;
+    PSC_UNROLL for (int k = 0; k < 5; ++k) {
+        if ((set >> k) & 1u) ch |= e.mov[5 * layer + k].assignWhere(where, true);
+        else if ((clear >> k) & 1u) ch |= e.mov[5 * layer + k].assignWhere(where, false);
     }
     return ch;
 }
