@@ -47,3 +47,98 @@ TEST_CASE("a player on several layers moves all of them", "[codegen]") {
     p.layers = "Background\nTarget\nHero, Wall\nCrate\n";
     CHECK(movingLayersOf(p) == 0b1100);
 }
+
+namespace {
+
+// The first rule's first cell, and the game it belongs to (kept alive by the result).
+struct FirstCell {
+    CompileResult result;
+    const ir::CellPattern& cell() const { return result.game->rules[0].rules[0].rows[0][0]; }
+};
+
+FirstCell firstCellOf(const std::string& rules, CompileStatus expected = CompileStatus::Ok) {
+    GameParts p;  // one layer holds Player, Wall and Crate
+    p.rules = rules;
+    FirstCell f{test::compileParts(p)};
+    INFO(test::gameText(p));
+    REQUIRE(f.result.status == expected);
+    return f;
+}
+
+int objectId(const ir::Game& g, const std::string& name) {
+    for (const auto& o : g.objects) {
+        if (o.name == name && !o.ghost) return o.id;
+    }
+    FAIL("no object " << name);
+    return -1;
+}
+
+}  // namespace
+
+TEST_CASE("a replacement leaves out the writes its cell's pattern makes no-ops", "[codegen]") {
+    SECTION("a kept object and its layer are not written again; its movement is") {
+        FirstCell f = firstCellOf("[ Crate ] -> [ up Crate ]\n");
+        const ir::Game& g = *f.result.game;
+        const ir::Replacement& r = *f.cell().replacement;
+        REQUIRE(codegen::layersHoldOneObject(g));
+        const codegen::CellFacts facts = codegen::cellFacts(g, f.cell());
+        CHECK(codegen::objectUpdates(g, r.set, r.clear).size() == 1);  // the layer cleared but for the crate
+        CHECK(codegen::objectUpdates(g, r.set, r.clear, &facts).empty());
+        CHECK(codegen::movementUpdates(g, r, std::nullopt, &facts).size() == 1);
+    }
+    SECTION("replacing an object clears only that object, not its layer's others") {
+        FirstCell f = firstCellOf("[ Crate ] -> [ Wall ]\n");
+        const ir::Game& g = *f.result.game;
+        const ir::Replacement& r = *f.cell().replacement;
+        const codegen::CellFacts facts = codegen::cellFacts(g, f.cell());
+        const std::vector<codegen::ObjectUpdate> updates = codegen::objectUpdates(g, r.set, r.clear, &facts);
+        REQUIRE(updates.size() == 2);
+        CHECK(updates[0].kind == codegen::ObjectUpdate::kAssign);
+        CHECK(updates[0].layerOrObject == objectId(g, "crate"));
+        CHECK(updates[0].keepOrValue == 0);
+        CHECK(updates[1].layerOrObject == objectId(g, "wall"));
+        CHECK(updates[1].keepOrValue == 1);
+    }
+    SECTION("an object ruled out by 'no' is not cleared") {
+        FirstCell f = firstCellOf("[ Target no Crate no Wall ] -> [ Target ]\n");
+        const ir::Game& g = *f.result.game;
+        const ir::Replacement& r = *f.cell().replacement;
+        const codegen::CellFacts facts = codegen::cellFacts(g, f.cell());
+        for (const auto& u : codegen::objectUpdates(g, r.set, r.clear, &facts)) {
+            CHECK(u.layerOrObject != objectId(g, "crate"));
+            CHECK(u.layerOrObject != objectId(g, "wall"));
+        }
+    }
+    SECTION("a movement the pattern requires is not set again") {
+        FirstCell f = firstCellOf("[ > Player ] -> [ > Player ]\n");
+        const ir::Game& g = *f.result.game;
+        const ir::Replacement& r = *f.cell().replacement;
+        const codegen::CellFacts facts = codegen::cellFacts(g, f.cell());
+        const auto all = codegen::movementUpdates(g, r, std::nullopt);
+        const auto needed = codegen::movementUpdates(g, r, std::nullopt, &facts);
+        REQUIRE(all.size() == 1);
+        REQUIRE(needed.size() == 1);
+        CHECK(all[0].set != 0u);
+        CHECK(needed[0].set == 0u);
+        CHECK(needed[0].clear == all[0].clear);
+    }
+    SECTION("movements the pattern rules out are not cleared") {
+        FirstCell f = firstCellOf("[ stationary Player ] -> [ up Player ]\n");
+        const ir::Game& g = *f.result.game;
+        const ir::Replacement& r = *f.cell().replacement;
+        const codegen::CellFacts facts = codegen::cellFacts(g, f.cell());
+        const auto all = codegen::movementUpdates(g, r, std::nullopt);
+        const auto needed = codegen::movementUpdates(g, r, std::nullopt, &facts);
+        REQUIRE(all.size() == 1);
+        REQUIRE(needed.size() == 1);
+        CHECK(all[0].clear != 0u);
+        CHECK(needed[0].clear == 0u);
+        CHECK(needed[0].set == all[0].set);
+    }
+}
+
+TEST_CASE("a game whose replacement puts two objects on one layer keeps its full writes", "[codegen]") {
+    CHECK(codegen::layersHoldOneObject(*firstCellOf("[ Target ] -> [ Target Crate ]\n").result.game));
+    CHECK_FALSE(codegen::layersHoldOneObject(
+        *firstCellOf("[ Target ] -> [ Target Crate Wall ]\n", CompileStatus::Playable).result.game));
+}
