@@ -73,6 +73,18 @@ int objectId(const ir::Game& g, const std::string& name) {
     return -1;
 }
 
+// The first cell's one movement write without and with what its pattern says.
+std::pair<codegen::MovementUpdate, codegen::MovementUpdate> movementWritesOf(const std::string& rules) {
+    FirstCell f = firstCellOf(rules);
+    const ir::Game& g = *f.result.game;
+    const codegen::CellFacts facts = codegen::cellFacts(g, f.cell());
+    const auto all = codegen::movementUpdates(g, *f.cell().replacement, std::nullopt);
+    const auto needed = codegen::movementUpdates(g, *f.cell().replacement, std::nullopt, &facts);
+    REQUIRE(all.size() == 1);
+    REQUIRE(needed.size() == 1);
+    return {all[0], needed[0]};
+}
+
 }  // namespace
 
 TEST_CASE("a replacement leaves out the writes its cell's pattern makes no-ops", "[codegen]") {
@@ -110,30 +122,16 @@ TEST_CASE("a replacement leaves out the writes its cell's pattern makes no-ops",
         }
     }
     SECTION("a movement the pattern requires is not set again") {
-        FirstCell f = firstCellOf("[ > Player ] -> [ > Player ]\n");
-        const ir::Game& g = *f.result.game;
-        const ir::Replacement& r = *f.cell().replacement;
-        const codegen::CellFacts facts = codegen::cellFacts(g, f.cell());
-        const auto all = codegen::movementUpdates(g, r, std::nullopt);
-        const auto needed = codegen::movementUpdates(g, r, std::nullopt, &facts);
-        REQUIRE(all.size() == 1);
-        REQUIRE(needed.size() == 1);
-        CHECK(all[0].set != 0u);
-        CHECK(needed[0].set == 0u);
-        CHECK(needed[0].clear == all[0].clear);
+        const auto [all, needed] = movementWritesOf("[ > Player ] -> [ > Player ]\n");
+        CHECK(all.set != 0u);
+        CHECK(needed.set == 0u);
+        CHECK(needed.clear == all.clear);
     }
     SECTION("movements the pattern rules out are not cleared") {
-        FirstCell f = firstCellOf("[ stationary Player ] -> [ up Player ]\n");
-        const ir::Game& g = *f.result.game;
-        const ir::Replacement& r = *f.cell().replacement;
-        const codegen::CellFacts facts = codegen::cellFacts(g, f.cell());
-        const auto all = codegen::movementUpdates(g, r, std::nullopt);
-        const auto needed = codegen::movementUpdates(g, r, std::nullopt, &facts);
-        REQUIRE(all.size() == 1);
-        REQUIRE(needed.size() == 1);
-        CHECK(all[0].clear != 0u);
-        CHECK(needed[0].clear == 0u);
-        CHECK(needed[0].set == all[0].set);
+        const auto [all, needed] = movementWritesOf("[ stationary Player ] -> [ up Player ]\n");
+        CHECK(all.clear != 0u);
+        CHECK(needed.clear == 0u);
+        CHECK(needed.set == all.set);
     }
 }
 
