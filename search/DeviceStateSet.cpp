@@ -41,7 +41,6 @@ struct Counters {
 constexpr unsigned kCountBlock = 1024;  // PSC_BLOCK
 constexpr unsigned kBlock = 256;
 constexpr uint32_t kBins = 65536;           // PSC_BINS
-constexpr uint32_t kAllEstimates = 0xffffffffu;  // PSC_EMPTY: psc_beam_count counts ties
 constexpr uint64_t kNoWin = ~uint64_t{0};
 constexpr size_t kStateBytes = 16 + 4 + 1;  // print, parent, input
 // State indices stay below the kernels' candidate bit.
@@ -131,7 +130,8 @@ void DeviceStateSet::acquire(size_t memoryLimit) {
                                                           {&rehash_, "psc_set_rehash"},
                                                           {&addRoot_, "psc_set_add_root"},
                                                           {&histogram_, "psc_beam_histogram"},
-                                                          {&cutCount_, "psc_beam_count"},
+                                                          {&tieCount_, "psc_beam_count_ties"},
+                                                          {&keptCount_, "psc_beam_count_kept"},
                                                           {&pack_, "psc_beam_pack"}};
     for (const auto& [f, name] : kernels) check(d_.cuModuleGetFunction(f, module_, name), name);
     check(d_.cuStreamCreate(&stream_, 0), "creating a CUDA stream");
@@ -371,7 +371,7 @@ bool DeviceStateSet::cut(size_t width) {
     CuDevicePtr noCounters = 0;
     uint32_t blockCount = static_cast<uint32_t>(blocks);
     void* countArgs[] = {&estimates, &count, &best, &end, &cutCounts_};
-    launch(cutCount_, blocks * kCountBlock, kCountBlock, countArgs);
+    launch(keptCount_, blocks * kCountBlock, kCountBlock, countArgs);
     void* scanArgs[] = {&cutCounts_, &blockCount, &noCounters};
     launch(scan_, kCountBlock, kCountBlock, scanArgs);
     void* packArgs[] = {&s, &count, &best, &end, &cutCounts_, &layerKeys_, &layerStates_};
@@ -422,9 +422,8 @@ uint32_t DeviceStateSet::tieEnd(uint32_t count, uint32_t threshold, uint32_t tie
         cutCountsCapacity_ = blocks;
     }
     CuDevicePtr estimates = nextEstimates();
-    uint32_t all = kAllEstimates;
-    void* args[] = {&estimates, &count, &threshold, &all, &cutCounts_};
-    launch(cutCount_, blocks * kCountBlock, kCountBlock, args);
+    void* args[] = {&estimates, &count, &threshold, &cutCounts_};
+    launch(tieCount_, blocks * kCountBlock, kCountBlock, args);
     check(d_.cuStreamSynchronize(stream_), "cutting a beam layer");
     std::vector<uint32_t> perBlock(blocks);
     check(d_.cuMemcpyDtoH(perBlock.data(), cutCounts_, blocks * 4), "reading the beam's counts");

@@ -108,7 +108,8 @@ private:
     CuStream stream_ = nullptr;
     CuModule module_ = nullptr;
     CuFunction insert_ = nullptr, count_ = nullptr, scan_ = nullptr, append_ = nullptr, rehash_ = nullptr,
-               addRoot_ = nullptr, histogram_ = nullptr, cutCount_ = nullptr, pack_ = nullptr;
+               addRoot_ = nullptr, histogram_ = nullptr, tieCount_ = nullptr, keptCount_ = nullptr,
+               pack_ = nullptr;
     bool withEstimates_ = false;
     size_t memoryLimit_ = 0;
     size_t words_ = 0;

@@ -83,10 +83,14 @@ __device__ __forceinline__ u64* printAt(const StateSet& s, u32 state) {
     return static_cast<u64*>(s.chunks[3 * p.chunk]) + 2 * static_cast<u64>(p.offset);
 }
 
-__device__ __forceinline__ u32* parentAt(const StateSet& s, u32 state) {
+// A state's entry in one of its chunk's per-state arrays (1: parents, 2: inputs).
+template <typename T>
+__device__ __forceinline__ T* entryAt(const StateSet& s, u32 state, int array) {
     const ChunkPlace p = placeOf(state);
-    return static_cast<u32*>(s.chunks[3 * p.chunk + 1]) + p.offset;
+    return static_cast<T*>(s.chunks[3 * p.chunk + array]) + p.offset;
 }
+
+__device__ __forceinline__ u32* parentAt(const StateSet& s, u32 state) { return entryAt<u32>(s, state, 1); }
 
 // The store index of the layer's state `position` from the batch's first
 // (firstParent: a store index where the layer is contiguous, else a position in it).
@@ -95,9 +99,8 @@ __device__ __forceinline__ u32 parentOf(const StateSet& s, u32 firstParent, u32 
 }
 
 __device__ __forceinline__ void recordParent(const StateSet& s, u32 state, u32 parent, unsigned char input) {
-    const ChunkPlace p = placeOf(state);
-    static_cast<u32*>(s.chunks[3 * p.chunk + 1])[p.offset] = parent;
-    static_cast<unsigned char*>(s.chunks[3 * p.chunk + 2])[p.offset] = input;
+    *parentAt(s, state) = parent;
+    *entryAt<unsigned char>(s, state, 2) = input;
 }
 
 __device__ __forceinline__ u64 mix64(u64 x) {
@@ -315,17 +318,25 @@ extern "C" __global__ void psc_beam_histogram(const u32* estimates, u32 count, u
     if ((__ffs(same) - 1) == static_cast<int>(threadIdx.x & 31)) atomicAdd(bins + bin, __popc(same));
 }
 
-// Per block of PSC_BLOCK states: how many have the threshold estimate
-// (tieEnd == PSC_EMPTY), or how many are kept.
-extern "C" __global__ void psc_beam_count(const u32* estimates, u32 count, u32 threshold, u32 tieEnd, u32* blockCounts) {
-    const u32 i = blockIdx.x * PSC_BLOCK + threadIdx.x;
-    const bool in = i < count && (tieEnd == PSC_EMPTY ? estimates[i] == threshold : kept(estimates[i], i, threshold, tieEnd));
+__device__ __forceinline__ void countInBlock(bool in, u32* blockCounts) {
     const int n = __syncthreads_count(in);
     if (threadIdx.x == 0) blockCounts[blockIdx.x] = static_cast<u32>(n);
 }
 
+// Per block of PSC_BLOCK states: how many have the threshold estimate.
+extern "C" __global__ void psc_beam_count_ties(const u32* estimates, u32 count, u32 threshold, u32* blockCounts) {
+    const u32 i = blockIdx.x * PSC_BLOCK + threadIdx.x;
+    countInBlock(i < count && estimates[i] == threshold, blockCounts);
+}
+
+// Per block of PSC_BLOCK states: how many are kept.
+extern "C" __global__ void psc_beam_count_kept(const u32* estimates, u32 count, u32 threshold, u32 tieEnd, u32* blockCounts) {
+    const u32 i = blockIdx.x * PSC_BLOCK + threadIdx.x;
+    countInBlock(i < count && kept(estimates[i], i, threshold, tieEnd), blockCounts);
+}
+
 // The kept states' keys to `layerKeys` and store indices to `layerStates`,
-// in order (blockOffsets: psc_set_scan's prefix sums of psc_beam_count's);
+// in order (blockOffsets: psc_set_scan's prefix sums of psc_beam_count_kept's);
 // the others dropped.
 extern "C" __global__ void psc_beam_pack(StateSet s, u32 count, u32 threshold, u32 tieEnd, const u32* blockOffsets,
                                          u64* layerKeys, u32* layerStates) {

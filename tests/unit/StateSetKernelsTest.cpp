@@ -20,7 +20,8 @@ TEST_CASE("search's state-set kernels compile with NVRTC", "[cuda][search]") {
     CHECK_FALSE(r.cubin.empty());
     REQUIRE(r.ptx.size() == 1);
     for (const char* kernel : {"psc_set_insert", "psc_set_count", "psc_set_scan", "psc_set_append", "psc_set_rehash",
-                               "psc_set_add_root", "psc_beam_histogram", "psc_beam_count", "psc_beam_pack"}) {
+                               "psc_set_add_root", "psc_beam_histogram", "psc_beam_count_ties",
+                               "psc_beam_count_kept", "psc_beam_pack"}) {
         CHECK(r.ptx[0].find(std::string(".entry ") + kernel) != std::string::npos);
     }
 }
