@@ -277,13 +277,13 @@ void emitReplacement(CodeWriter& out, const Game& g, const Rule& rule, const Cel
     out.close();
 }
 
-// A row's cells lie at distinct positions, but another row's may share one:
-// only the first row applied (row 0) knows its cells as its pattern saw them.
-void emitApplyRow(CodeWriter& out, const Game& g, const Rule& rule, const RowLayout& row, bool firstRow) {
+// Row `index` of the match; `layersExclusive`: layersHoldOneObject(g).
+void emitApplyRow(CodeWriter& out, const Game& g, const Rule& rule, const RowLayout& row, size_t index,
+                  bool layersExclusive) {
     for (size_t i = 0; i < row.cells->size(); ++i) {
         const CellPattern& c = (*row.cells)[i];
         if (c.ellipsis || !c.replacement) continue;
-        emitReplacement(out, g, rule, c, row.position(i), firstRow);
+        emitReplacement(out, g, rule, c, row.position(i), layersExclusive && cellFactsHold(g, rule, index, c));
     }
 }
 
@@ -392,7 +392,7 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
                 for (const auto& row : rows) checks.push_back(recheck(row));
                 out.line("if (!first && !(" + joinWith(checks, " && ") + ")) continue;");
                 out.line("first = false;");
-                for (const auto& row : rows) emitApplyRow(out, g, rule, row, layersExclusive && &row == &rows.front());
+                for (size_t r = 0; r < rows.size(); ++r) emitApplyRow(out, g, rule, rows[r], r, layersExclusive);
             });
             if (commands) out.line("if (!first) " + queueStatement(rule, commands, messages));
         } else {
@@ -432,7 +432,7 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
     out.line("long long index = 0;");
     emitTupleLoops(out, rule, [&](const std::vector<RowLayout>& rows) {
         out.open("if (index++ == n)");
-        for (const auto& row : rows) emitApplyRow(out, g, rule, row, layersExclusive && &row == &rows.front());
+        for (size_t r = 0; r < rows.size(); ++r) emitApplyRow(out, g, rule, rows[r], r, layersExclusive);
         out.close();
     });
     if (commands) out.line(queueStatement(rule, commands, messages));

@@ -43,6 +43,33 @@ CellFacts cellFacts(const ir::Game& g, const ir::CellPattern& cell) {
     return f;
 }
 
+bool cellFactsHold(const ir::Game& g, const ir::Rule& rule, size_t row, const ir::CellPattern& cell) {
+    BitSet objectsRead = cell.missing;
+    auto addLayersOf = [&](const BitSet& objects) {
+        for (const BitSet& layer : g.layerMasks) {
+            if (layer.intersects(objects)) objectsRead |= layer;
+        }
+    };
+    addLayersOf(cell.present);
+    for (const BitSet& any : cell.anyOf) addLayersOf(any);
+    BitSet movementsRead = cell.movementsPresent;
+    movementsRead |= cell.movementsMissing;
+    for (size_t r = 0; r < row && r < rule.rows.size(); ++r) {
+        for (const ir::CellPattern& earlier : rule.rows[r]) {
+            if (!earlier.replacement) continue;
+            const ir::Replacement& w = *earlier.replacement;
+            if (w.randomEntity.any() || w.randomDirMask.any()) return false;
+            BitSet objectsWritten = w.set;
+            objectsWritten |= w.clear;
+            BitSet movementsWritten = w.movementsSet;
+            movementsWritten |= w.movementsClear;
+            movementsWritten |= w.movementsLayerMask;
+            if (objectsWritten.intersects(objectsRead) || movementsWritten.intersects(movementsRead)) return false;
+        }
+    }
+    return true;
+}
+
 std::vector<ObjectUpdate> objectUpdates(const ir::Game& g, const BitSet& set, const BitSet& clearAsked,
                                         const CellFacts* facts) {
     std::vector<ObjectUpdate> out;

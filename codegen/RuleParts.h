@@ -34,8 +34,14 @@ struct CellFacts {
     BitSet movementsPresent;
     BitSet movementsMissing;
 };
-// Valid only where layersHoldOneObject(game).
+// Valid only where layersHoldOneObject(game) and cellFactsHold.
 CellFacts cellFacts(const ir::Game& game, const ir::CellPattern& cell);
+// Whether cell `cell` of row `row` still is as its pattern saw it when its
+// replacement runs: a match applies its rows in order, and a row's cells lie
+// at distinct positions, but an earlier row's cell may share its position;
+// it holds where no earlier row writes what the cell's facts rest on (the
+// layers its pattern constrains, the objects it rules out, its movements).
+bool cellFactsHold(const ir::Game& game, const ir::Rule& rule, size_t row, const ir::CellPattern& cell);
 // Whether no cell ever holds two objects of one layer: levels cannot place
 // two (a glyph keeps one object a layer), so only a replacement that sets two
 // objects of one layer (an error the reference plays on with) can.

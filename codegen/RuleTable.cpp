@@ -45,9 +45,7 @@ public:
         std::vector<int> record = {directionCode(rule.direction), flags, static_cast<int>(commandBits(rule)),
                                    messageIndex(rule, messages_), rigidGroupClaim(g_, rule),
                                    static_cast<int>(rule.rows.size())};
-        // Rows are applied in order and another row may share a cell with an
-        // earlier one: only row 0's cells are as their patterns saw them (CellFacts).
-        for (const auto& row : rule.rows) record.push_back(addRow(rule, row, layersExclusive_ && &row == &rule.rows.front()));
+        for (size_t r = 0; r < rule.rows.size(); ++r) record.push_back(addRow(rule, r));
         maxRows_ = std::max(maxRows_, static_cast<int>(rule.rows.size()));
         int saved = 0;
         for (const auto& row : rule.rows) {
@@ -77,14 +75,17 @@ private:
         return it->second;
     }
 
-    int addRow(const Rule& rule, const std::vector<CellPattern>& cells, bool knowsCells) {
+    int addRow(const Rule& rule, size_t index) {
+        const std::vector<CellPattern>& cells = rule.rows[index];
         std::vector<int> ellipses;
         for (size_t i = 0; i < cells.size(); ++i) {
             if (cells[i].ellipsis) ellipses.push_back(static_cast<int>(i));
         }
         std::vector<int> record = {static_cast<int>(cells.size()), ellipses.empty() ? -1 : ellipses[0],
                                    ellipses.size() < 2 ? -1 : ellipses[1]};
-        for (const auto& c : cells) record.push_back(c.ellipsis ? -1 : addCell(rule, c, knowsCells));
+        for (const auto& c : cells) {
+            record.push_back(c.ellipsis ? -1 : addCell(rule, c, layersExclusive_ && cellFactsHold(g_, rule, index, c)));
+        }
         return shared(record);
     }
 

@@ -140,3 +140,21 @@ TEST_CASE("a game whose replacement puts two objects on one layer keeps its full
     CHECK_FALSE(codegen::layersHoldOneObject(
         *firstCellOf("[ Target ] -> [ Target Crate Wall ]\n", CompileStatus::Playable).result.game));
 }
+
+TEST_CASE("a later row's cell knows itself unless an earlier row writes what it rests on", "[codegen]") {
+    auto secondRowHolds = [](const std::string& rules) {
+        CompileResult r = test::compileParts(ownLayers(rules));
+        INFO(rules);
+        REQUIRE(r.status == CompileStatus::Ok);
+        const ir::Rule& rule = r.game->rules[0].rules[0];
+        REQUIRE(rule.rows.size() == 2);
+        CHECK(codegen::cellFactsHold(*r.game, rule, 0, rule.rows[0][0]));
+        return codegen::cellFactsHold(*r.game, rule, 1, rule.rows[1][0]);
+    };
+    // Row 0 writes the player's layer; row 1 rests on the crate's.
+    CHECK(secondRowHolds("[ Player ] [ Crate ] -> [ Player ] [ ]\n"));
+    // Row 0 clears a crate, maybe the very one row 1 matched.
+    CHECK_FALSE(secondRowHolds("[ Crate ] [ Crate ] -> [ ] [ up Crate ]\n"));
+    // Row 0 gives the crate's layer a movement that row 1 rules out.
+    CHECK_FALSE(secondRowHolds("[ Crate ] [ stationary Crate ] -> [ up Crate ] [ ]\n"));
+}
