@@ -287,32 +287,64 @@ void emitApplyRow(CodeWriter& out, const Game& g, const Rule& rule, const RowLay
     }
 }
 
-// Whether the rule's matches can all be applied at once, as board
-// operations, instead of one after another: a single cell changes nothing
-// outside itself, so applying it at one position leaves every other match
-// standing, and the order does not matter unless the replacement draws from
-// the random stream or claims a rigid body.
-bool appliesAtOnce(const Rule& rule) {
-    if (rule.rigid || rule.rows.size() != 1 || rule.rows[0].size() != 1) return false;
-    const CellPattern& cell = rule.rows[0][0];
-    return cell.replacement && cell.replacement->randomEntity.none() && cell.replacement->randomDirMask.none();
+// Whether a first-row cell's replacement writes nothing its pattern leaves
+// open (CellFacts), as `[ Crate | ... ] -> [ Crate | ... ]`'s first cell.
+bool changesNothing(const Game& g, const CellPattern& cell) {
+    const ir::Replacement& r = *cell.replacement;
+    if (r.randomEntity.any() || r.randomDirMask.any()) return false;
+    const CellFacts facts = cellFacts(g, cell);
+    return objectUpdates(g, r.set, r.clear, &facts).empty() && movementUpdates(g, r, std::nullopt, &facts).empty();
 }
 
-// The replacement at every position of row0 (appliesAtOnce).
-void emitApplyAtOnce(CodeWriter& out, const Game& g, const ir::Replacement& r, const std::optional<CellFacts>& facts) {
+// The cell whose replacement a rule's matches can all apply at once, as
+// board operations, instead of one after another; none where they cannot.
+// That takes one row without gaps, and one cell of it that changes anything:
+// two matches then write distinct positions, and where one match's write
+// lands on another match's other cell, it must change nothing that cell
+// tests, so every match still stands after the others.  Random draws and
+// rigid claims depend on the order: not those.
+std::optional<size_t> appliesAtOnce(const Game& g, const Rule& rule, bool layersExclusive) {
+    if (rule.rigid || rule.rows.size() != 1) return std::nullopt;
+    const std::vector<CellPattern>& cells = rule.rows[0];
+    std::optional<size_t> writer;
+    for (size_t i = 0; i < cells.size(); ++i) {
+        if (cells[i].ellipsis) return std::nullopt;
+        if (!cells[i].replacement || (layersExclusive && changesNothing(g, cells[i]))) continue;
+        if (writer) return std::nullopt;
+        writer = i;
+    }
+    if (!writer) return std::nullopt;
+    const ir::Replacement& w = *cells[*writer].replacement;
+    if (w.randomEntity.any() || w.randomDirMask.any()) return std::nullopt;
+    BitSet objectsWritten = w.set;
+    objectsWritten |= w.clear;
+    BitSet movementsWritten = w.movementsSet;
+    movementsWritten |= w.movementsClear;
+    movementsWritten |= w.movementsLayerMask;
+    for (size_t j = 0; j < cells.size(); ++j) {
+        if (j == *writer) continue;
+        const CellPattern& c = cells[j];
+        bool reads = objectsWritten.intersects(c.present) || objectsWritten.intersects(c.missing) ||
+                     movementsWritten.intersects(c.movementsPresent) || movementsWritten.intersects(c.movementsMissing);
+        for (const BitSet& any : c.anyOf) reads = reads || objectsWritten.intersects(any);
+        if (reads) return std::nullopt;
+    }
+    return writer;
+}
+
+// The replacement at every position of board `at` (appliesAtOnce).
+void emitApplyAtOnce(CodeWriter& out, const Game& g, const ir::Replacement& r, const std::optional<CellFacts>& facts,
+                     const std::string& at) {
     const CellFacts* known = facts ? &*facts : nullptr;
-    auto assign = [&](int id, bool value) {
-        out.line(fmt::format("changed |= e.obj[{}].assignWhere(row0, {});", id, value ? "true" : "false"));
-    };
     for (const ObjectUpdate& u : objectUpdates(g, r.set, r.clear, known)) {
         if (u.kind == ObjectUpdate::kAssign) {
-            assign(u.layerOrObject, u.keepOrValue != 0);
+            out.line(fmt::format("changed |= e.obj[{}].assignWhere({}, {});", u.layerOrObject, at, u.keepOrValue ? "true" : "false"));
         } else {
-            out.line(fmt::format("changed |= putLayer{}Where(e, row0, {});", u.layerOrObject, u.keepOrValue));
+            out.line(fmt::format("changed |= putLayer{}Where(e, {}, {});", u.layerOrObject, at, u.keepOrValue));
         }
     }
     for (const MovementUpdate& u : movementUpdates(g, r, std::nullopt, known)) {
-        out.line(fmt::format("changed |= putMovementWhere(e, row0, {}, {}u, {}u);", u.layer, u.clear, u.set));
+        out.line(fmt::format("changed |= putMovementWhere(e, {}, {}, {}u, {}u);", at, u.layer, u.clear, u.set));
     }
 }
 
@@ -381,9 +413,14 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
         out.line("(void)t;");
         emitRowSetup(out, rule, "false");
         out.line("bool changed = false;");
-        if (appliesAtOnce(rule)) {
-            emitApplyAtOnce(out, g, *rule.rows[0][0].replacement,
-                            layersExclusive ? std::optional<CellFacts>(cellFacts(g, rule.rows[0][0])) : std::nullopt);
+        if (const std::optional<size_t> writer = appliesAtOnce(g, rule, layersExclusive)) {
+            const CellPattern& cell = rule.rows[0][*writer];
+            std::string at = "row0";
+            if (*writer > 0) {
+                out.line(fmt::format("const Board at = shiftBy(row0, -{} * d);", *writer));
+                at = "at";
+            }
+            emitApplyAtOnce(out, g, *cell.replacement, layersExclusive ? std::optional<CellFacts>(cellFacts(g, cell)) : std::nullopt, at);
             if (commands) out.line(queueStatement(rule, commands, messages));
         } else if (rule.hasReplacements) {
             out.line("bool first = true;");
