@@ -236,13 +236,10 @@ void emitRigidClaim(CodeWriter& out, const Game& g, const Rule& rule, const ir::
     out.close();
 }
 
-// `knowsCell`: no earlier replacement of the same match can have changed the
-// cell, so what its pattern says of it holds (CellFacts).
+// `facts`: what the cell's pattern says of it, where that holds (knownFacts), or null.
 void emitReplacement(CodeWriter& out, const Game& g, const Rule& rule, const CellPattern& cell, const std::string& pos,
-                     bool knowsCell) {
+                     const CellFacts* facts) {
     const ir::Replacement& r = *cell.replacement;
-    const std::optional<CellFacts> factsOfCell = knowsCell ? std::optional<CellFacts>(cellFacts(g, cell)) : std::nullopt;
-    const CellFacts* facts = factsOfCell ? &*factsOfCell : nullptr;
     out.open("");
     out.line("const int p = " + pos + ";");
     const std::vector<int> candidates = r.randomEntity.bits();
@@ -283,17 +280,18 @@ void emitApplyRow(CodeWriter& out, const Game& g, const Rule& rule, const RowLay
     for (size_t i = 0; i < row.cells->size(); ++i) {
         const CellPattern& c = (*row.cells)[i];
         if (c.ellipsis || !c.replacement) continue;
-        emitReplacement(out, g, rule, c, row.position(i), layersExclusive && cellFactsHold(g, rule, index, c));
+        const std::optional<CellFacts> facts = knownFacts(g, rule, index, c, layersExclusive);
+        emitReplacement(out, g, rule, c, row.position(i), facts ? &*facts : nullptr);
     }
 }
 
 // Whether a first-row cell's replacement writes nothing its pattern leaves
 // open (CellFacts), as `[ Crate | ... ] -> [ Crate | ... ]`'s first cell.
-bool changesNothing(const Game& g, const CellPattern& cell) {
+bool changesNothing(const Game& g, const Rule& rule, const CellPattern& cell, bool layersExclusive) {
     const ir::Replacement& r = *cell.replacement;
-    if (r.randomEntity.any() || r.randomDirMask.any()) return false;
-    const CellFacts facts = cellFacts(g, cell);
-    return objectUpdates(g, r.set, r.clear, &facts).empty() && movementUpdates(g, r, std::nullopt, &facts).empty();
+    const std::optional<CellFacts> facts = knownFacts(g, rule, 0, cell, layersExclusive);
+    if (!facts || r.randomEntity.any() || r.randomDirMask.any()) return false;
+    return objectUpdates(g, r.set, r.clear, &*facts).empty() && movementUpdates(g, r, std::nullopt, &*facts).empty();
 }
 
 // The cell whose replacement a rule's matches can all apply at once, as
@@ -309,33 +307,28 @@ std::optional<size_t> appliesAtOnce(const Game& g, const Rule& rule, bool layers
     std::optional<size_t> writer;
     for (size_t i = 0; i < cells.size(); ++i) {
         if (cells[i].ellipsis) return std::nullopt;
-        if (!cells[i].replacement || (layersExclusive && changesNothing(g, cells[i]))) continue;
+        if (!cells[i].replacement || changesNothing(g, rule, cells[i], layersExclusive)) continue;
         if (writer) return std::nullopt;
         writer = i;
     }
     if (!writer) return std::nullopt;
     const ir::Replacement& w = *cells[*writer].replacement;
     if (w.randomEntity.any() || w.randomDirMask.any()) return std::nullopt;
-    BitSet objectsWritten = w.set;
-    objectsWritten |= w.clear;
-    BitSet movementsWritten = w.movementsSet;
-    movementsWritten |= w.movementsClear;
-    movementsWritten |= w.movementsLayerMask;
+    const ReplacementWrites written = writesOf(w);
     for (size_t j = 0; j < cells.size(); ++j) {
         if (j == *writer) continue;
         const CellPattern& c = cells[j];
-        bool reads = objectsWritten.intersects(c.present) || objectsWritten.intersects(c.missing) ||
-                     movementsWritten.intersects(c.movementsPresent) || movementsWritten.intersects(c.movementsMissing);
-        for (const BitSet& any : c.anyOf) reads = reads || objectsWritten.intersects(any);
+        bool reads = written.objects.intersects(c.present) || written.objects.intersects(c.missing) ||
+                     written.movements.intersects(c.movementsPresent) || written.movements.intersects(c.movementsMissing);
+        for (const BitSet& any : c.anyOf) reads = reads || written.objects.intersects(any);
         if (reads) return std::nullopt;
     }
     return writer;
 }
 
 // The replacement at every position of board `at` (appliesAtOnce).
-void emitApplyAtOnce(CodeWriter& out, const Game& g, const ir::Replacement& r, const std::optional<CellFacts>& facts,
+void emitApplyAtOnce(CodeWriter& out, const Game& g, const ir::Replacement& r, const CellFacts* known,
                      const std::string& at) {
-    const CellFacts* known = facts ? &*facts : nullptr;
     for (const ObjectUpdate& u : objectUpdates(g, r.set, r.clear, known)) {
         if (u.kind == ObjectUpdate::kAssign) {
             out.line(fmt::format("changed |= e.obj[{}].assignWhere({}, {});", u.layerOrObject, at, u.keepOrValue ? "true" : "false"));
@@ -420,7 +413,8 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
                 out.line(fmt::format("const Board at = shiftBy(row0, -{} * d);", *writer));
                 at = "at";
             }
-            emitApplyAtOnce(out, g, *cell.replacement, layersExclusive ? std::optional<CellFacts>(cellFacts(g, cell)) : std::nullopt, at);
+            const std::optional<CellFacts> facts = knownFacts(g, rule, 0, cell, layersExclusive);
+            emitApplyAtOnce(out, g, *cell.replacement, facts ? &*facts : nullptr, at);
             if (commands) out.line(queueStatement(rule, commands, messages));
         } else if (rule.hasReplacements) {
             out.line("bool first = true;");

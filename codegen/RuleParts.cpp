@@ -59,15 +59,25 @@ bool cellFactsHold(const ir::Game& g, const ir::Rule& rule, size_t row, const ir
             if (!earlier.replacement) continue;
             const ir::Replacement& w = *earlier.replacement;
             if (w.randomEntity.any() || w.randomDirMask.any()) return false;
-            BitSet objectsWritten = w.set;
-            objectsWritten |= w.clear;
-            BitSet movementsWritten = w.movementsSet;
-            movementsWritten |= w.movementsClear;
-            movementsWritten |= w.movementsLayerMask;
-            if (objectsWritten.intersects(objectsRead) || movementsWritten.intersects(movementsRead)) return false;
+            const ReplacementWrites written = writesOf(w);
+            if (written.objects.intersects(objectsRead) || written.movements.intersects(movementsRead)) return false;
         }
     }
     return true;
+}
+
+std::optional<CellFacts> knownFacts(const ir::Game& g, const ir::Rule& rule, size_t row, const ir::CellPattern& cell,
+                                    bool layersExclusive) {
+    if (!layersExclusive || !cellFactsHold(g, rule, row, cell)) return std::nullopt;
+    return cellFacts(g, cell);
+}
+
+ReplacementWrites writesOf(const ir::Replacement& r) {
+    ReplacementWrites w{r.set, r.movementsSet};
+    w.objects |= r.clear;
+    w.movements |= r.movementsClear;
+    w.movements |= r.movementsLayerMask;
+    return w;
 }
 
 std::vector<ObjectUpdate> objectUpdates(const ir::Game& g, const BitSet& set, const BitSet& clearAsked,

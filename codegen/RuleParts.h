@@ -46,6 +46,17 @@ bool cellFactsHold(const ir::Game& game, const ir::Rule& rule, size_t row, const
 // two (a glyph keeps one object a layer), so only a replacement that sets two
 // objects of one layer (an error the reference plays on with) can.
 bool layersHoldOneObject(const ir::Game& game);
+// The facts of cell `cell` of row `row` where they hold (cellFactsHold, and
+// `layersExclusive`: layersHoldOneObject(game), computed once a game).
+std::optional<CellFacts> knownFacts(const ir::Game& game, const ir::Rule& rule, size_t row, const ir::CellPattern& cell,
+                                    bool layersExclusive);
+
+// What a replacement may write: objects, and movement bits (5 a layer).
+struct ReplacementWrites {
+    BitSet objects;
+    BitSet movements;
+};
+ReplacementWrites writesOf(const ir::Replacement& r);
 
 // Layers cleared whole come first (in layer order), then single objects
 // cleared, then set.  With `facts`, updates that cannot change the cell are

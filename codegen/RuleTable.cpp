@@ -84,19 +84,19 @@ private:
         std::vector<int> record = {static_cast<int>(cells.size()), ellipses.empty() ? -1 : ellipses[0],
                                    ellipses.size() < 2 ? -1 : ellipses[1]};
         for (const auto& c : cells) {
-            record.push_back(c.ellipsis ? -1 : addCell(rule, c, layersExclusive_ && cellFactsHold(g_, rule, index, c)));
+            record.push_back(c.ellipsis ? -1 : addCell(rule, index, c));
         }
         return shared(record);
     }
 
-    int addCell(const Rule& rule, const CellPattern& c, bool knowsCell) {
+    int addCell(const Rule& rule, size_t row, const CellPattern& c) {
         std::vector<std::vector<int>> terms;
         c.present.forEach([&](size_t id) { terms.push_back({static_cast<int>(id)}); });
         for (const auto& any : c.anyOf) terms.push_back(any.bits());
         c.movementsPresent.forEach([&](size_t bit) { terms.push_back({movementRef(bit)}); });
         std::vector<int> excluded = c.missing.bits();
         c.movementsMissing.forEach([&](size_t bit) { excluded.push_back(movementRef(bit)); });
-        const std::optional<CellFacts> facts = knowsCell ? std::optional<CellFacts>(cellFacts(g_, c)) : std::nullopt;
+        const std::optional<CellFacts> facts = knownFacts(g_, rule, row, c, layersExclusive_);
         std::vector<int> record = {c.replacement ? addReplacement(rule, *c.replacement, facts ? &*facts : nullptr) : -1,
                                    static_cast<int>(terms.size())};
         for (const auto& term : terms) {
