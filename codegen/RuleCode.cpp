@@ -285,43 +285,68 @@ void emitApplyRow(CodeWriter& out, const Game& g, const Rule& rule, const RowLay
     }
 }
 
-// Whether a first-row cell's replacement writes nothing its pattern leaves
-// open (CellFacts), as `[ Crate | ... ] -> [ Crate | ... ]`'s first cell.
-bool changesNothing(const Game& g, const Rule& rule, const CellPattern& cell, bool layersExclusive) {
+// Whether the replacement of a cell of row `row` writes nothing its pattern
+// leaves open (CellFacts), as `[ Crate | ... ] -> [ Crate | ... ]`'s first cell.
+bool changesNothing(const Game& g, const Rule& rule, size_t row, const CellPattern& cell, bool layersExclusive) {
     const ir::Replacement& r = *cell.replacement;
-    const std::optional<CellFacts> facts = knownFacts(g, rule, 0, cell, layersExclusive);
+    const std::optional<CellFacts> facts = knownFacts(g, rule, row, cell, layersExclusive);
     if (!facts || r.randomEntity.any() || r.randomDirMask.any()) return false;
     return objectUpdates(g, r.set, r.clear, &*facts).empty() && movementUpdates(g, r, std::nullopt, &*facts).empty();
 }
 
+// Where a rule's one changing cell is: its row and its place in the row.
+struct WriterCell {
+    size_t row = 0;
+    size_t cell = 0;
+};
+
 // The cell whose replacement a rule's matches can all apply at once, as
 // board operations, instead of one after another; none where they cannot.
-// That takes one row without gaps, and one cell of it that changes anything:
-// two matches then write distinct positions, and where one match's write
-// lands on another match's other cell, it must change nothing that cell
-// tests, so every match still stands after the others.  Random draws and
-// rigid claims depend on the order: not those.
-std::optional<size_t> appliesAtOnce(const Game& g, const Rule& rule, bool layersExclusive) {
-    if (rule.rigid || rule.rows.size() != 1) return std::nullopt;
-    const std::vector<CellPattern>& cells = rule.rows[0];
-    std::optional<size_t> writer;
-    for (size_t i = 0; i < cells.size(); ++i) {
-        if (cells[i].ellipsis) return std::nullopt;
-        if (!cells[i].replacement || changesNothing(g, rule, cells[i], layersExclusive)) continue;
-        if (writer) return std::nullopt;
-        writer = i;
+// That takes rows without gaps and one cell of them that changes anything:
+// each position of its row's matches is then written once (a second match
+// through the same position would rewrite what the first wrote, so skipping
+// it changes nothing), and where a write lands on another match's cell, of
+// any row, it must change nothing that cell tests, so every match still
+// stands after the others.  Random draws and rigid claims depend on the
+// order: not those.
+std::optional<WriterCell> appliesAtOnce(const Game& g, const Rule& rule, bool layersExclusive) {
+    if (rule.rigid || hasEllipsis(rule)) return std::nullopt;
+    std::optional<WriterCell> writer;
+    for (size_t r = 0; r < rule.rows.size(); ++r) {
+        for (size_t i = 0; i < rule.rows[r].size(); ++i) {
+            const CellPattern& c = rule.rows[r][i];
+            if (!c.replacement || changesNothing(g, rule, r, c, layersExclusive)) continue;
+            if (writer) return std::nullopt;
+            writer = WriterCell{r, i};
+        }
     }
     if (!writer) return std::nullopt;
-    const ir::Replacement& w = *cells[*writer].replacement;
+    const CellPattern& writerCell = rule.rows[writer->row][writer->cell];
+    const ir::Replacement& w = *writerCell.replacement;
     if (w.randomEntity.any() || w.randomDirMask.any()) return std::nullopt;
-    const ReplacementWrites written = writesOf(w);
-    for (size_t j = 0; j < cells.size(); ++j) {
-        if (j == *writer) continue;
-        const CellPattern& c = cells[j];
-        bool reads = written.objects.intersects(c.present) || written.objects.intersects(c.missing) ||
-                     written.movements.intersects(c.movementsPresent) || written.movements.intersects(c.movementsMissing);
-        for (const BitSet& any : c.anyOf) reads = reads || written.objects.intersects(any);
-        if (reads) return std::nullopt;
+    ReplacementWrites written = writesOf(w);
+    if (const std::optional<CellFacts> facts = knownFacts(g, rule, writer->row, writerCell, layersExclusive)) {
+        // Only objects that can change: clearing one the cell cannot hold, or
+        // setting one it holds, is left out of the code (objectUpdates).
+        written.objects = w.set;
+        written.objects.clear(facts->present);
+        BitSet cleared = w.clear;
+        cleared &= facts->possible;
+        written.objects |= cleared;
+    }
+    for (size_t r = 0; r < rule.rows.size(); ++r) {
+        for (size_t j = 0; j < rule.rows[r].size(); ++j) {
+            if (r == writer->row && j == writer->cell) continue;
+            const CellPattern& c = rule.rows[r][j];
+            // A match whose cell lies where another match writes was found
+            // with both patterns holding there: never where they exclude.
+            if (layersExclusive && cellsExclude(g, writerCell, c)) continue;
+            bool reads = written.objects.intersects(c.present) || written.objects.intersects(c.missing) ||
+                         written.movements.intersects(c.movementsPresent) ||
+                         written.movements.intersects(c.movementsMissing);
+            for (const BitSet& any : c.anyOf) reads = reads || written.objects.intersects(any);
+            if (reads) return std::nullopt;
+        }
     }
     return writer;
 }
@@ -406,14 +431,14 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
         out.line("(void)t;");
         emitRowSetup(out, rule, "false");
         out.line("bool changed = false;");
-        if (const std::optional<size_t> writer = appliesAtOnce(g, rule, layersExclusive)) {
-            const CellPattern& cell = rule.rows[0][*writer];
-            std::string at = "row0";
-            if (*writer > 0) {
-                out.line(fmt::format("const Board at = shiftBy(row0, -{} * d);", *writer));
+        if (const std::optional<WriterCell> writer = appliesAtOnce(g, rule, layersExclusive)) {
+            const CellPattern& cell = rule.rows[writer->row][writer->cell];
+            std::string at = fmt::format("row{}", writer->row);
+            if (writer->cell > 0) {
+                out.line(fmt::format("const Board at = shiftBy({}, -{} * d);", at, writer->cell));
                 at = "at";
             }
-            const std::optional<CellFacts> facts = knownFacts(g, rule, 0, cell, layersExclusive);
+            const std::optional<CellFacts> facts = knownFacts(g, rule, writer->row, cell, layersExclusive);
             emitApplyAtOnce(out, g, *cell.replacement, facts ? &*facts : nullptr, at);
             if (commands) out.line(queueStatement(rule, commands, messages));
         } else if (rule.hasReplacements) {

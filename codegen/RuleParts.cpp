@@ -40,7 +40,25 @@ CellFacts cellFacts(const ir::Game& g, const ir::CellPattern& cell) {
     for (const BitSet& any : cell.anyOf) confineLayer(any);
     f.movementsPresent = cell.movementsPresent;
     f.movementsMissing = cell.movementsMissing;
+    // A layer moves one way at a time: seeding puts one direction on a
+    // still layer, and a replacement clears the layer's five bits before it
+    // sets one.  A required direction rules out the other four.
+    for (int L = 0; L < g.layerCount; ++L) {
+        const uint32_t required = cell.movementsPresent.field(L);
+        if (required != 0u) f.movementsMissing.orField(L, 31u & ~required);
+    }
     return f;
+}
+
+bool cellsExclude(const ir::Game& g, const ir::CellPattern& a, const ir::CellPattern& b) {
+    const CellFacts fa = cellFacts(g, a);
+    const CellFacts fb = cellFacts(g, b);
+    auto requiresRuledOut = [](const CellFacts& x, const CellFacts& y) {
+        BitSet ruledOut = x.present;
+        ruledOut.clear(y.possible);
+        return ruledOut.any() || x.movementsPresent.intersects(y.movementsMissing);
+    };
+    return requiresRuledOut(fa, fb) || requiresRuledOut(fb, fa);
 }
 
 bool cellFactsHold(const ir::Game& g, const ir::Rule& rule, size_t row, const ir::CellPattern& cell) {
@@ -56,7 +74,7 @@ bool cellFactsHold(const ir::Game& g, const ir::Rule& rule, size_t row, const ir
     movementsRead |= cell.movementsMissing;
     for (size_t r = 0; r < row && r < rule.rows.size(); ++r) {
         for (const ir::CellPattern& earlier : rule.rows[r]) {
-            if (!earlier.replacement) continue;
+            if (!earlier.replacement || cellsExclude(g, earlier, cell)) continue;
             const ir::Replacement& w = *earlier.replacement;
             if (w.randomEntity.any() || w.randomDirMask.any()) return false;
             const ReplacementWrites written = writesOf(w);
@@ -96,6 +114,14 @@ std::vector<ObjectUpdate> objectUpdates(const ir::Game& g, const BitSet& set, co
         BitSet setHere = set;
         setHere &= layer;
         if (setHere.count() > 1) continue;
+        BitSet leaving = clear;
+        leaving &= layer;
+        leaving.clear(set);
+        if (leaving.none() && !setNew.intersects(layer)) {
+            // The layer already holds what the replacement puts there.
+            handled |= layer;
+            continue;
+        }
         const std::vector<int> kept = setHere.bits();
         out.push_back({ObjectUpdate::kPutLayer, static_cast<int>(L), kept.empty() ? -1 : kept[0]});
         handled |= layer;

@@ -36,11 +36,17 @@ struct CellFacts {
 };
 // Valid only where layersHoldOneObject(game) and cellFactsHold.
 CellFacts cellFacts(const ir::Game& game, const ir::CellPattern& cell);
+// Whether no position can match cells `a` and `b` at once: one requires an
+// object or movement the other rules out.  Valid only where
+// layersHoldOneObject(game).
+bool cellsExclude(const ir::Game& game, const ir::CellPattern& a, const ir::CellPattern& b);
 // Whether cell `cell` of row `row` still is as its pattern saw it when its
 // replacement runs: a match applies its rows in order, and a row's cells lie
-// at distinct positions, but an earlier row's cell may share its position;
-// it holds where no earlier row writes what the cell's facts rest on (the
-// layers its pattern constrains, the objects it rules out, its movements).
+// at distinct positions, but an earlier row's cell may share its position
+// unless their patterns exclude each other (a match's rows all hold before
+// it writes); it holds where no earlier cell that may share it writes what
+// the cell's facts rest on (the layers its pattern constrains, the objects it
+// rules out, its movements).  Valid only where layersHoldOneObject(game).
 bool cellFactsHold(const ir::Game& game, const ir::Rule& rule, size_t row, const ir::CellPattern& cell);
 // Whether no cell ever holds two objects of one layer: levels cannot place
 // two (a glyph keeps one object a layer), so only a replacement that sets two

@@ -111,6 +111,14 @@ TEST_CASE("a replacement leaves out the writes its cell's pattern makes no-ops",
         CHECK(updates[1].layerOrObject == objectId(g, "wall"));
         CHECK(updates[1].keepOrValue == 1);
     }
+    SECTION("a layer that holds only what its replacement puts there is not written") {
+        FirstCell f = firstCellOf("[ Target Crate ] -> [ Target up Crate ]\n");
+        const ir::Game& g = *f.result.game;
+        const ir::Replacement& r = *f.cell().replacement;
+        const codegen::CellFacts facts = codegen::cellFacts(g, f.cell());
+        CHECK_FALSE(codegen::objectUpdates(g, r.set, r.clear).empty());
+        CHECK(codegen::objectUpdates(g, r.set, r.clear, &facts).empty());
+    }
     SECTION("an object ruled out by 'no' is not cleared") {
         FirstCell f = firstCellOf("[ Target no Crate no Wall ] -> [ Target ]\n");
         const ir::Game& g = *f.result.game;
@@ -121,11 +129,21 @@ TEST_CASE("a replacement leaves out the writes its cell's pattern makes no-ops",
             CHECK(u.layerOrObject != objectId(g, "wall"));
         }
     }
-    SECTION("a movement the pattern requires is not set again") {
-        const auto [all, needed] = movementWritesOf("[ > Player ] -> [ > Player ]\n");
-        CHECK(all.set != 0u);
-        CHECK(needed.set == 0u);
-        CHECK(needed.clear == all.clear);
+    SECTION("a movement the pattern requires is not set again, nor its layer's other directions cleared") {
+        FirstCell f = firstCellOf("[ > Player ] -> [ > Player ]\n");
+        const ir::Game& g = *f.result.game;
+        const codegen::CellFacts facts = codegen::cellFacts(g, f.cell());
+        const auto all = codegen::movementUpdates(g, *f.cell().replacement, std::nullopt);
+        REQUIRE(all.size() == 1);
+        CHECK(all[0].set != 0u);
+        CHECK((all[0].clear | all[0].set) == 31u);
+        CHECK(codegen::movementUpdates(g, *f.cell().replacement, std::nullopt, &facts).empty());
+    }
+    SECTION("a movement the pattern requires is replaced by another without clearing the rest") {
+        const auto [all, needed] = movementWritesOf("[ up Player ] -> [ down Player ]\n");
+        CHECK(needed.set == all.set);
+        CHECK(needed.clear == 1u);  // up, the one direction the layer can hold
+        CHECK(all.clear != needed.clear);
     }
     SECTION("movements the pattern rules out are not cleared") {
         const auto [all, needed] = movementWritesOf("[ stationary Player ] -> [ up Player ]\n");
@@ -157,4 +175,22 @@ TEST_CASE("a later row's cell knows itself unless an earlier row writes what it 
     CHECK_FALSE(secondRowHolds("[ Crate ] [ Crate ] -> [ ] [ up Crate ]\n"));
     // Row 0 gives the crate's layer a movement that row 1 rules out.
     CHECK_FALSE(secondRowHolds("[ Crate ] [ stationary Crate ] -> [ up Crate ] [ ]\n"));
+    // Row 0 writes the layer row 1 rests on, but never at row 1's cell: a
+    // cell holds a player or a wall, not both, and a match's rows hold at once.
+    CHECK(secondRowHolds("[ Player ] [ Wall ] -> [ ] [ Wall ]\n"));
+    CHECK(secondRowHolds("[ Crate ] [ no Crate ] -> [ ] [ up Crate ]\n"));
+}
+
+TEST_CASE("cells exclude each other where one requires what the other rules out", "[codegen]") {
+    CompileResult r = test::compileParts(ownLayers(
+        "right [ Player | Wall | Crate | no Crate | stationary Crate | up Crate | Target ] -> [ Player | Wall | Crate | | Crate | Crate | Target ]\n"));
+    REQUIRE(r.status == CompileStatus::Ok);
+    const ir::Game& g = *r.game;
+    const std::vector<ir::CellPattern>& cells = r.game->rules[0].rules[0].rows[0];
+    REQUIRE(cells.size() == 7);
+    CHECK(codegen::cellsExclude(g, cells[0], cells[1]));        // one layer holds the player and the wall
+    CHECK(codegen::cellsExclude(g, cells[2], cells[3]));        // a crate, and no crate
+    CHECK(codegen::cellsExclude(g, cells[4], cells[5]));        // a still crate, and a moving one
+    CHECK_FALSE(codegen::cellsExclude(g, cells[2], cells[6]));  // a crate may lie on a target
+    CHECK_FALSE(codegen::cellsExclude(g, cells[0], cells[2]));  // layers of their own: both may be there
 }
