@@ -332,6 +332,7 @@ std::optional<WriterCell> appliesAtOnce(const Game& g, const Rule& rule, bool la
         written.objects.clear(facts->present);
         BitSet cleared = w.clear;
         cleared &= facts->possible;
+        cleared.clear(w.set);
         written.objects |= cleared;
     }
     for (size_t r = 0; r < rule.rows.size(); ++r) {
