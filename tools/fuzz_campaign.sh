@@ -116,7 +116,7 @@ for target in "${targets[@]}"; do
      grep -q "^Done [0-9]* runs" "$work/$target".*.log; then
     reproduced=0
     for f in "${new_findings[@]}"; do
-      "$binary" "${limits[@]}" "$f" > "$work/$target.rerun.log" 2>&1 || reproduced=1
+      "$binary" "${limits[@]}" "$f" > "$work/$target.rerun.$(basename "$f").log" 2>&1 || reproduced=1
     done
     if ((reproduced == 0)); then
       mkdir -p "$work/tool-failures/$target"
