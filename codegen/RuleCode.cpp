@@ -324,17 +324,8 @@ std::optional<WriterCell> appliesAtOnce(const Game& g, const Rule& rule, bool la
     const CellPattern& writerCell = rule.rows[writer->row][writer->cell];
     const ir::Replacement& w = *writerCell.replacement;
     if (w.randomEntity.any() || w.randomDirMask.any()) return std::nullopt;
-    ReplacementWrites written = writesOf(w);
-    if (const std::optional<CellFacts> facts = knownFacts(g, rule, writer->row, writerCell, layersExclusive)) {
-        // Only objects that can change: clearing one the cell cannot hold, or
-        // setting one it holds, is left out of the code (objectUpdates).
-        written.objects = w.set;
-        written.objects.clear(facts->present);
-        BitSet cleared = w.clear;
-        cleared &= facts->possible;
-        cleared.clear(w.set);
-        written.objects |= cleared;
-    }
+    const std::optional<CellFacts> facts = knownFacts(g, rule, writer->row, writerCell, layersExclusive);
+    const ReplacementWrites written = writesOf(w, facts ? &*facts : nullptr);
     for (size_t r = 0; r < rule.rows.size(); ++r) {
         for (size_t j = 0; j < rule.rows[r].size(); ++j) {
             if (r == writer->row && j == writer->cell) continue;

@@ -90,9 +90,15 @@ std::optional<CellFacts> knownFacts(const ir::Game& g, const ir::Rule& rule, siz
     return cellFacts(g, cell);
 }
 
-ReplacementWrites writesOf(const ir::Replacement& r) {
+ReplacementWrites writesOf(const ir::Replacement& r, const CellFacts* facts) {
     ReplacementWrites w{r.set, r.movementsSet};
-    w.objects |= r.clear;
+    BitSet cleared = r.clear;
+    if (facts) {
+        w.objects.clear(facts->present);
+        cleared &= facts->possible;
+        cleared.clear(r.set);
+    }
+    w.objects |= cleared;
     w.movements |= r.movementsClear;
     w.movements |= r.movementsLayerMask;
     return w;

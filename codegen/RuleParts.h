@@ -58,11 +58,13 @@ std::optional<CellFacts> knownFacts(const ir::Game& game, const ir::Rule& rule, 
                                     bool layersExclusive);
 
 // What a replacement may write: objects, and movement bits (5 a layer).
+// With `facts`, only objects it can change (as objectUpdates leaves out the
+// others): not one the cell cannot hold cleared, nor one it holds set.
 struct ReplacementWrites {
     BitSet objects;
     BitSet movements;
 };
-ReplacementWrites writesOf(const ir::Replacement& r);
+ReplacementWrites writesOf(const ir::Replacement& r, const CellFacts* facts = nullptr);
 
 // Layers cleared whole come first (in layer order), then single objects
 // cleared, then set.  With `facts`, updates that cannot change the cell are
