@@ -71,12 +71,12 @@ bool usesRandom(const Game& g) {
     return false;
 }
 
-bool hasCheckpoint(const Game& g) {
+bool hasCommand(const Game& g, std::string_view command) {
     for (const auto* groups : {&g.rules, &g.lateRules}) {
         for (const auto& group : *groups) {
             for (const auto& rule : group.rules) {
                 for (const auto& c : rule.commands) {
-                    if (c.name == "checkpoint") return true;
+                    if (c.name == command) return true;
                 }
             }
         }
@@ -194,7 +194,9 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
                          lateRandomDirections(g)));
     out.line(fmt::format("constexpr unsigned long long kMovingLayerBits = 0x{:x}ull;  // layers that can move (movingLayerBits)",
                          movingLayerBits(g)));
-    out.line(fmt::format("constexpr bool kHasCheckpoint = {};  // a rule can move the restart target", hasCheckpoint(g)));
+    out.line(fmt::format("constexpr bool kHasCheckpoint = {};  // a rule can move the restart target",
+                         hasCommand(g, "checkpoint")));
+    out.line(fmt::format("constexpr bool kHasRestartCommand = {};  // a rule can queue `restart`", hasCommand(g, "restart")));
     out.close("  // namespace psc_game");
     out.line();
 }

@@ -376,7 +376,7 @@ PSC_DEVICE PSC_TURN bool playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin)
             restoreLevel(e, bak);
             return commandsLeft;
         }
-        if (e.queue & kCmdRestart) {
+        if (kHasRestartCommand && (e.queue & kCmdRestart)) {
             pushUndo(u, bak);
             outOfLine(e, u, [](Env& m, UndoStack& mu) { doRestart(m, mu, true); });
         }
@@ -433,19 +433,21 @@ PSC_DEVICE PSC_INLINE bool chainPastDeadline(const UndoStack& u, int turns) {
 // which draws each turn).
 enum AgainMode { kAgainSettle = 0, kAgainOneTurn = 1 };
 
-// One input and every `again` turn it triggers (they settle within the
-// input, unless the again mode is one turn per step).  Returns false when an
+// The undo and restart inputs' own work, before the turns of their `again`
+// chains (playInput).
+PSC_DEVICE PSC_COLD void undoOrRestart(Env& e, UndoStack& u, int input) {
+    if (input == kInputUndo) doUndo(e, u, false, true);
+    else doRestart(e, u, false);
+}
+
+// One input's turns, and every `again` turn they trigger (they settle within
+// the input, unless the again mode is one turn per step), after
+// undoOrRestart for the undo and restart inputs.  Returns false when an
 // again chain had to be cut off.
-PSC_DEVICE PSC_INPUT bool applyInput(Env& e, UndoStack& u, int input) {
-    bool play = true;
+PSC_DEVICE PSC_INPUT bool playInput(Env& e, UndoStack& u, int input) {
+    bool play = input != kInputUndo && input != kInputRestart;
     int dir = input <= kInputAction ? input : -1;
-    if (input == kInputUndo) {
-        outOfLine(e, u, [](Env& m, UndoStack& mu) { doUndo(m, mu, false, true); });
-        play = false;
-    } else if (input == kInputRestart) {
-        outOfLine(e, u, [](Env& m, UndoStack& mu) { doRestart(m, mu, false); });
-        play = false;
-    } else if (e.againing) {
+    if (play && e.againing) {
         // An again turn is pending (one turn per step): it runs, and the input
         // is dropped, as the reference's player drops keys during a chain.
         e.againing = 0;
@@ -462,6 +464,14 @@ PSC_DEVICE PSC_INPUT bool applyInput(Env& e, UndoStack& u, int input) {
         play = true;
         dir = -1;
     }
+}
+
+// One input: undoOrRestart where it applies, then playInput.
+PSC_DEVICE PSC_INPUT bool applyInput(Env& e, UndoStack& u, int input) {
+    if (input == kInputUndo || input == kInputRestart) {
+        outOfLine(e, u, [input](Env& m, UndoStack& mu) { undoOrRestart(m, mu, input); });
+    }
+    return playInput(e, u, input);
 }
 
 // Settles an `again` chain started outside applyInput (by a level start).
@@ -553,37 +563,56 @@ PSC_DEVICE PSC_COLD void startEpisode(Env& e, UndoStack& u) {
     e.needsReset = 0;
 }
 
+// What a step runs out of line: a new episode (auto-reset) or the undo and
+// restart inputs' own work.
+PSC_DEVICE PSC_COLD void stepEvent(Env& e, UndoStack& u, bool newEpisode, int action) {
+    if (newEpisode) startEpisode(e, u);
+    else undoOrRestart(e, u, action);
+}
+
+// One step: the input, and the auto-reset it may need.  Everything it runs
+// out of line goes through one call of outOfLine: with the state in
+// registers each call stores and reloads the environment, and every copy of
+// that code cost NVRTC and ptxas more than the rest of the turn (five calls
+// were a quarter of dictionary's build).
 PSC_DEVICE PSC_INPUT StepOutcome stepEnvironment(Env& e, UndoStack& u, int action) {
     StepOutcome out = {0.0f, 0, 0, 0, 0, 0, -1};
     clearShownMessage(e);
-    if (e.needsReset) {
-        outOfLine(e, u, [](Env& m, UndoStack& mu) { startEpisode(m, mu); });
-        return out;
+    // A next-step auto-reset is the whole step.
+    bool played = e.needsReset;
+    bool newEpisode = e.needsReset;
+    bool event = newEpisode || action == kInputUndo || action == kInputRestart;
+    if (!newEpisode) e.wins = 0;
+    for (;;) {
+        if (event) outOfLine(e, u, [newEpisode, action](Env& m, UndoStack& mu) { stepEvent(m, mu, newEpisode, action); });
+        if (played) return out;
+        played = true;
+        const bool settled = playInput(e, u, action);
+        out.won = e.wins > 0;
+        out.reward = static_cast<float>(e.wins);
+        out.cutOff = !settled || e.unavailable;
+        out.againing = e.againing;
+        out.message = static_cast<short>(shownMessageOf(e));
+        ++e.episodeSteps;
+        if (e.autoReset == kAutoResetOff) {
+            out.terminated = e.titleScreen && e.startExisted;
+            return out;
+        }
+        out.terminated = out.won;
+        out.truncated = !out.won && e.maxEpisodeSteps > 0 && e.episodeSteps >= e.maxEpisodeSteps;
+        if (!(out.terminated || out.truncated)) return out;
+        if (e.autoReset != kAutoResetSameStep) {
+            e.needsReset = 1;
+            return out;
+        }
+        event = true;
+        newEpisode = true;
     }
-    e.wins = 0;
-    const bool settled = applyInput(e, u, action);
-    out.won = e.wins > 0;
-    out.reward = static_cast<float>(e.wins);
-    out.cutOff = !settled || e.unavailable;
-    out.againing = e.againing;
-    out.message = static_cast<short>(shownMessageOf(e));
-    ++e.episodeSteps;
-    if (e.autoReset == kAutoResetOff) {
-        out.terminated = e.titleScreen && e.startExisted;
-        return out;
-    }
-    out.terminated = out.won;
-    out.truncated = !out.won && e.maxEpisodeSteps > 0 && e.episodeSteps >= e.maxEpisodeSteps;
-    if (out.terminated || out.truncated) {
-        if (e.autoReset == kAutoResetSameStep) outOfLine(e, u, [](Env& m, UndoStack& mu) { startEpisode(m, mu); });
-        else e.needsReset = 1;
-    }
-    return out;
 }
 
 // Multi-hot object planes: out[(c * maxHeight + y) * maxWidth + x].
-PSC_DEVICE inline void observeEnvironment(const Env& e, const int* channelObjects, int channels, int maxWidth, int maxHeight,
-                                   u8* out) {
+PSC_DEVICE PSC_COLD void observeEnvironment(const Env& e, const int* channelObjects, int channels, int maxWidth,
+                                            int maxHeight, u8* out) {
     for (int i = 0; i < channels * maxWidth * maxHeight; ++i) out[i] = 0;
     for (int c = 0; c < channels; ++c) {
         const Board& board = e.obj[channelObjects[c]];
