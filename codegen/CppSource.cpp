@@ -55,6 +55,7 @@ struct GpuCode {
     int units = 1;             // CUDA compile units (templates/core.h)
     int turnUnit = 0;          // the unit compiling the turn (the last, when there are several), or 0
     int runBlocks = 0;         // the stepping kernel's 128-thread blocks an SM (its launch bounds), or 0: none
+    int unitRegisters = 0;     // a cap on every unit's registers a thread (0: none): see emitConstants
     RuleUnits rules;           // where the rules go (with the groups layout, which groups stay apart)
 };
 
@@ -171,6 +172,12 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
         out.line(fmt::format("#define PSC_TURN_UNIT {}  // the unit that compiles the turn (0: unit 0)", gpu.turnUnit));
         out.line(fmt::format("#define PSC_RUN_KERNEL_BLOCKS {}  // the stepping kernel's blocks an SM (0: no launch bounds)",
                              gpu.runBlocks));
+        // A kernel's launch bounds cap its registers, and those of what it calls
+        // in another unit must fit under the same cap, or the link fails: NVRTC
+        // (runtime/CudaCompiler.cpp) and the driver's link of PTX
+        // (runtime/plugin_host/CudaBackend.cpp) compile every unit so.
+        out.line(fmt::format("#define PSC_UNIT_MAX_REGISTERS {}  // registers a thread in every compile unit (0: no cap)",
+                             gpu.unitRegisters));
         out.line(fmt::format("#define PSC_SEARCH_KERNELS {}  // psc_expand on the GPU (--search-kernels)",
                              o.searchKernels ? 1 : 0));
     }
@@ -625,9 +632,17 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
         constexpr size_t kRegisterCodeBudget = 23000;
         gpu.inRegisters = words <= kMaxUnrolledBoardWords && ruleBytes * static_cast<size_t>(words) <= kRegisterCodeBudget;
     }
-    if (gpu.inRegisters) gpu.runBlocks = registerLayoutBlocks(game, words, ruleBytes);
+    if (gpu.inRegisters) {
+        gpu.runBlocks = registerLayoutBlocks(game, words, ruleBytes);
+        // The stepping kernel in one unit, the rest in another (templates/core.h),
+        // unless --cuda-units 1 asks for one program.
+        gpu.units = options.cudaUnits == 1 ? 1 : 2;
+        // An SM's 64 K registers shared by runBlocks blocks of 128 threads, in ptxas's steps of 8.
+        if (gpu.units > 1) gpu.unitRegisters = std::min(255, 65536 / (128 * gpu.runBlocks) / 8 * 8);
+        return gpu;
+    }
     const int groups = static_cast<int>(game.rules.size() + game.lateRules.size());
-    if (gpu.inRegisters || groups == 0) return gpu;
+    if (groups == 0) return gpu;
 
     // The groups layout: units 1..groupUnits for the groups on a copy, then
     // units for those apart, by code size as the memory layout's.  Only a
@@ -708,7 +723,10 @@ RuleFormChoice ruleForm(const ir::Game& game, const SourceOptions& options) {
 }
 
 int hostCompileUnits(const ir::Game& game, const SourceOptions& options) {
-    return options.target == "cpu" ? 1 : gpuCode(game, options, ruleForm(game, options)).units;
+    if (options.target == "cpu") return 1;
+    // The registers layout's two CUDA units split its kernels, not its rules.
+    const GpuCode gpu = gpuCode(game, options, ruleForm(game, options));
+    return gpu.inRegisters ? 1 : gpu.units;
 }
 
 std::string gpuStateLayout(const ir::Game& game, const SourceOptions& options) {
@@ -785,9 +803,7 @@ std::string cudaSource(const ir::Game& game, const SourceOptions& options) {
     out.raw(header(game, options, "cuda"));
     out.raw(deviceSource(game, options));
     out.line();
-    out.raw("#if PSC_COMPILES_UNIT(0)\n");
     out.raw(templates::cudaKernels());
-    out.raw("#endif\n");
     return out.text();
 }
 

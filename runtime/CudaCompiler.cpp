@@ -142,11 +142,17 @@ bool nvccCompile(const std::string& source, const std::string& name, const CudaC
 
 }  // namespace
 
-int compileUnitsOf(const std::string& source) {
-    const std::string define = "#define PSC_COMPILE_UNITS ";
+namespace {
+// The value of `#define NAME value` in a generated source, or fallback.
+int definedNumber(const std::string& source, const std::string& name, int fallback) {
+    const std::string define = "#define " + name + " ";
     const size_t at = source.find(define);
-    if (at == std::string::npos) return 1;
-    const int units = std::atoi(source.c_str() + at + define.size());
+    return at == std::string::npos ? fallback : std::atoi(source.c_str() + at + define.size());
+}
+}  // namespace
+
+int compileUnitsOf(const std::string& source) {
+    const int units = definedNumber(source, "PSC_COMPILE_UNITS", 1);
     return units >= 1 && units <= 64 ? units : 1;
 }
 
@@ -359,6 +365,10 @@ CudaCompileResult compileCuda(const std::string& source, const std::string& name
         // every unit's code (tests/correctness/cuda_compile_units.py compiles and
         // links units), and CI checks a thousand games so.
         const int units = options.syntaxOnly ? 1 : compileUnitsOf(source);
+        CudaCompileOptions unitOptions = options;
+        if (const int cap = definedNumber(source, "PSC_UNIT_MAX_REGISTERS", 0); units > 1 && cap > 0) {
+            unitOptions.extraOptions.push_back(fmt::format("-maxrregcount={}", cap));
+        }
         // In a forked copy, so that a compile that runs too long stops (NVRTC
         // has no time limit of its own) and dies with psc.
         const double wall = options.wallSeconds >= 0 ? options.wallSeconds : defaultCompileLimits().wallSeconds;
@@ -366,7 +376,7 @@ CudaCompileResult compileCuda(const std::string& source, const std::string& name
         const ChildResult child = runForked(
             [&] {
                 CudaCompileResult inChild;
-                inChild.ok = nvrtc->compile(source, name, options, units, inChild);
+                inChild.ok = nvrtc->compile(source, name, unitOptions, units, inChild);
                 return pack(inChild);
             },
             &packed, wall);

@@ -92,6 +92,15 @@
 #define PSC_LEVEL_CHANGE __noinline__
 #define PSC_DEFINES_LEVEL_CHANGES (PSC_UNIT == 0)
 #endif
+#if PSC_STATE_IN_REGISTERS && defined(PSC_UNIT)
+// The registers layout in two units, compiled at once: unit 0 the stepping
+// kernel, unit 1 the other kernels and the level changes the stepping kernel
+// calls out of line, which took a third of a small game's NVRTC time.
+#define PSC_LEVEL_CHANGE __noinline__
+#define PSC_DEFINES_LEVEL_CHANGES (PSC_UNIT == 1)
+#define PSC_DEFINES_RUN_KERNEL (PSC_UNIT == 0)
+#define PSC_DEFINES_OTHER_KERNELS (PSC_UNIT == 1)
+#endif
 #define PSC_INPUT PSC_INLINE
 #define PSC_TABLE __device__ const
 // Loops over objects, layers and a board's words are unrolled for boards of
@@ -146,6 +155,11 @@
 #if !defined(PSC_LEVEL_CHANGE)
 #define PSC_LEVEL_CHANGE PSC_COLD
 #define PSC_DEFINES_LEVEL_CHANGES 1
+#endif
+// Every kernel is in unit 0, but for the registers layout's two units.
+#if !defined(PSC_DEFINES_RUN_KERNEL)
+#define PSC_DEFINES_RUN_KERNEL PSC_COMPILES_UNIT(0)
+#define PSC_DEFINES_OTHER_KERNELS PSC_COMPILES_UNIT(0)
 #endif
 // The turn calls a rule group only while every board that all its rules
 // need holds something (RuleCode's applyEarlyRules and applyLateRules): it

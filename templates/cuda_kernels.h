@@ -63,6 +63,8 @@ __device__ PSC_INLINE unsigned long long warpSum(unsigned long long v) {
 
 }  // namespace psc_game
 
+// Which unit defines each kernel: PSC_DEFINES_RUN_KERNEL, PSC_DEFINES_OTHER_KERNELS (templates/core.h).
+#if PSC_DEFINES_OTHER_KERNELS
 // Restarts environments ids[k] at entries[k], with the seed seeds[k] (kSeedUnits units, lengths[k] used).
 // Level loads are rare: this kernel works on the environments in place.
 extern "C" __global__ void psc_reset_kernel(psc_game::DeviceBatch b, const int* ids, const int* entries,
@@ -86,6 +88,7 @@ extern "C" __global__ void psc_reset_kernel(psc_game::DeviceBatch b, const int* 
     startEpisode(e, u);
     keepUndo(b, i, u);
 }
+#endif
 
 // `steps` steps of every environment, its state held by the thread
 // throughout.  Step k's action for environment i is actions[k * numEnvs + i],
@@ -98,6 +101,7 @@ extern "C" __global__ void psc_reset_kernel(psc_game::DeviceBatch b, const int* 
 // blocks an SM, chosen by psc from the state's size and the rules' code
 // (codegen/CppSource.cpp's registerLayoutBlocks).  The launch's block is
 // CudaBatch::kBlock, 128.
+#if PSC_DEFINES_RUN_KERNEL
 #if PSC_RUN_KERNEL_BLOCKS > 0
 #define PSC_RUN_KERNEL_BOUNDS __launch_bounds__(128, PSC_RUN_KERNEL_BLOCKS)
 #else
@@ -154,7 +158,9 @@ extern "C" __global__ void PSC_RUN_KERNEL_BOUNDS psc_run_kernel(psc_game::Device
         if (badActions) atomicAdd(&b.stats[3], badActions);
     }
 }
+#endif
 
+#if PSC_DEFINES_OTHER_KERNELS
 extern "C" __global__ void psc_observe_kernel(psc_game::DeviceBatch b) {
     using namespace psc_game;
     const int i = blockIdx.x * blockDim.x + threadIdx.x;
@@ -196,3 +202,4 @@ extern "C" __global__ void psc_expand_kernel(psc_game::DeviceBatch b, int templa
 // The GPU's clock, read once a batch to put psc_set_deadline's deadline on it.
 extern "C" __global__ void psc_clock_kernel(unsigned long long* now) { *now = psc_game::deadlineClock(); }
 #endif
+#endif  // PSC_DEFINES_OTHER_KERNELS

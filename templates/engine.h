@@ -15,6 +15,9 @@ PSC_DEVICE PSC_COLD void coldTurn(Env& e, UndoStack& u, bool dontDoWin);
 // (templates/core.h), declared for all.
 PSC_DEVICE PSC_LEVEL_CHANGE void doRestart(Env& e, UndoStack& u, bool force);
 PSC_DEVICE PSC_LEVEL_CHANGE void nextLevel(Env& e, UndoStack& u);
+// What a step runs out of line: a new episode (auto-reset) or the undo and
+// restart inputs' own work.
+PSC_DEVICE PSC_LEVEL_CHANGE void stepEvent(Env& e, UndoStack& u, bool newEpisode, int action);
 
 PSC_DEVICE PSC_INLINE void saveObjects(const Env& e, Snapshot& s) {
     PSC_UNROLL_STATE for (int o = 0; o < kObjects; ++o) s.obj[o] = e.obj[o];
@@ -563,12 +566,12 @@ PSC_DEVICE PSC_COLD void startEpisode(Env& e, UndoStack& u) {
     e.needsReset = 0;
 }
 
-// What a step runs out of line: a new episode (auto-reset) or the undo and
-// restart inputs' own work.
-PSC_DEVICE PSC_COLD void stepEvent(Env& e, UndoStack& u, bool newEpisode, int action) {
+#if PSC_DEFINES_LEVEL_CHANGES
+PSC_DEVICE PSC_LEVEL_CHANGE void stepEvent(Env& e, UndoStack& u, bool newEpisode, int action) {
     if (newEpisode) startEpisode(e, u);
     else undoOrRestart(e, u, action);
 }
+#endif
 
 // One step: the input, and the auto-reset it may need.  Everything it runs
 // out of line goes through one call of outOfLine: with the state in

@@ -26,6 +26,7 @@ typedef void* CUstream;
 typedef unsigned long long CUdeviceptr;
 typedef void* CUlinkState;
 constexpr int kJitInputPtx = 1;  // CU_JIT_INPUT_PTX
+constexpr int kJitMaxRegisters = 0;  // CU_JIT_MAX_REGISTERS
 
 struct Driver {
     CUresult (*cuInit)(unsigned);
@@ -122,7 +123,9 @@ CUresult loadModule(const DeviceCode& code, CUmodule* module) {
     if (!(fromPtx && *fromPtx && *fromPtx != '0') && d.cuModuleLoadData(module, code.cubin) == 0) return 0;
     if (code.ptxUnits == 1) return d.cuModuleLoadData(module, code.ptx);
     CUlinkState link = nullptr;
-    CUresult r = d.cuLinkCreate(0, nullptr, nullptr, &link);
+    int capOption = kJitMaxRegisters;
+    void* cap = reinterpret_cast<void*>(static_cast<uintptr_t>(code.unitMaxRegisters));
+    CUresult r = d.cuLinkCreate(code.unitMaxRegisters > 0 ? 1 : 0, &capOption, &cap, &link);
     const unsigned char* ptx = code.ptx;
     for (int k = 0; r == 0 && k < code.ptxUnits; ptx += code.ptxBytes[k] + 1, ++k) {
         const std::string name = "unit" + std::to_string(k) + ".ptx";

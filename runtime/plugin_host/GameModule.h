@@ -18,7 +18,7 @@ namespace psc_host {
 
 // Raised whenever the module's layout changes; the host refuses a module of
 // another version (a plugin built from mismatched parts).
-constexpr uint32_t kGameModuleVersion = 2;
+constexpr uint32_t kGameModuleVersion = 3;
 
 // A ring of undo snapshots, laid out as the engine's UndoStack (whose turn
 // scratch only the GPU's kernels use: null here).
@@ -84,6 +84,7 @@ struct DeviceCode {
     // Device memory each environment's turns need besides the stack (0: none):
     // the scratch of environments too large for the stack.
     size_t turnScratchBytes;
+    int unitMaxRegisters;  // registers a thread the driver's link of PTX units allows (0: no cap)
 };
 
 struct GameModule {

@@ -2,13 +2,15 @@
 """CUDA compile units (templates/core.h): a game's CUDA source split over
 several NVRTC programs must define each rule and group function in exactly one
 unit, the kernels in unit 0 and the turn in the last unit (PSC_TURN_UNIT)
-alone, link into one cubin, and come out the same every time.
+alone, link into one cubin, and come out the same every time.  The registers
+layout's two units: the stepping kernel alone in unit 0, the other kernels
+and the level changes it calls in unit 1.
 
     cuda_compile_units.py PSC GAME... [--units N]
 
-Each game is built with the memory layout (the one that is split) and N
-units (the turn's among them), or fewer where it has fewer rule and group
-functions."""
+Each game is built with the memory layout (the one whose rules are split)
+and N units (the turn's among them), or fewer where it has fewer rule and
+group functions, and with the registers layout."""
 import argparse
 import os
 import re
@@ -62,7 +64,7 @@ def check(psc, game, units, failures):
     units = int(declared_units.group(1)) if declared_units else 1
     turn_unit = re.search(r"^#define PSC_TURN_UNIT (\d+)", source, re.M)
     turn_unit = int(turn_unit.group(1)) if turn_unit else 0
-    if units < 3 or turn_unit != units - 1 or sorted(defined) != list(range(units - 1)) or defined[0]:
+    if units < 3 or turn_unit != units - 1 or sorted(defined) != list(range(1, units - 1)):
         failures.append(f"{game}: expected the kernels alone in unit 0, rules in units 1..{units - 2} and the turn "
                         f"in unit {units - 1}, found rule units {sorted(defined)} and the turn in unit {turn_unit}")
         return
@@ -92,6 +94,43 @@ def check(psc, game, units, failures):
           f"{len(everywhere)} exported from the PTX units")
 
 
+def linked_units(base, failures, game, units):
+    """Each unit's PTX of a build linked from `units` units: (exported functions, entries) per unit."""
+    with tempfile.TemporaryDirectory() as cache:
+        ptx = subprocess.run(base + ["--emit", "ptx", "--verbose"], capture_output=True, text=True, timeout=600,
+                             env=dict(os.environ, XDG_CACHE_HOME=cache))
+    if ptx.returncode != 0 or f"{units} compile units at once" not in ptx.stderr:
+        failures.append(f"{game}: compiling and linking {units} units failed: {ptx.stderr[-1500:]}")
+        return None
+    parts = re.split(r"^// ---- compile unit \d+ of \d+$", ptx.stdout, flags=re.M)[1:]
+    if len(parts) != units:
+        failures.append(f"{game}: {len(parts)} PTX units, expected {units}")
+        return None
+    visible = [re.findall(r"^\.visible \.func\s+(?:\([^)]*\)\s*)?(\w+)\(", p, re.M) for p in parts]
+    entries = [sorted(re.findall(r"^\.visible \.entry (\w+)\(", p, re.M)) for p in parts]
+    return visible, entries
+
+
+def check_registers(psc, game, failures):
+    base = [psc, game, "--levels", "0", "--gpu-state", "registers"]
+    source = subprocess.run(base + ["--emit", "cuda"], capture_output=True, text=True, timeout=120).stdout
+    if "#define PSC_COMPILE_UNITS 2 " not in source:
+        failures.append(f"{game}: the registers layout should compile as two units")
+        return
+    linked = linked_units(base, failures, game, 2)
+    if not linked:
+        return
+    visible, entries = linked
+    exported = [{demangled(n) for n in v} for v in visible]
+    if entries != [["psc_run_kernel"], ["psc_observe_kernel", "psc_reset_kernel"]]:
+        failures.append(f"{game}: registers layout: expected the stepping kernel alone in unit 0, found {entries}")
+    elif exported[0] or not {"stepEvent", "nextLevel"} <= exported[1]:
+        failures.append(f"{game}: registers layout: the level changes must be exported from unit 1 alone, "
+                        f"found {exported}")
+    else:
+        print(f"{os.path.basename(game)}: registers layout in 2 units, unit 1 exports {sorted(exported[1])}")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("psc")
@@ -101,6 +140,7 @@ def main():
     failures = []
     for game in a.games:
         check(a.psc, game, a.units, failures)
+        check_registers(a.psc, game, failures)
     for f in failures:
         print("FAIL", f)
     sys.exit(1 if failures else 0)
