@@ -145,7 +145,7 @@ int main(int argc, char** argv) {
     const char* gpuStateHelp = "where the GPU keeps each environment's state";
     app.add_option("--gpu-state", gpuState, gpuStateHelp)->check(gpuStates);
     int cudaUnits = 0;
-    const char* cudaUnitsHelp = "CUDA compile units NVRTC compiles at once (memory layout; from 3, one of them the turn's); 0: by code size";
+    const char* cudaUnitsHelp = "CUDA compile units NVRTC compiles at once (memory layout; from 3, one of them the turn's; the registers layout takes 2, or 1 for one program); 0: by code size";
     app.add_option("--cuda-units", cudaUnits, cudaUnitsHelp)->check(CLI::Range(0, 64));
     std::string ruleForm = "auto";
     const auto ruleForms = CLI::IsMember({"auto", "code", "table"});
