@@ -638,7 +638,7 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
         // unless --cuda-units 1 asks for one program.
         gpu.units = options.cudaUnits == 1 ? 1 : 2;
         // An SM's 64 K registers shared by runBlocks blocks of 128 threads, in ptxas's steps of 8.
-        if (gpu.units > 1) gpu.unitRegisters = std::min(255, 65536 / (128 * gpu.runBlocks) / 8 * 8);
+        if (gpu.units > 1 && gpu.runBlocks > 0) gpu.unitRegisters = std::min(255, 65536 / (128 * gpu.runBlocks) / 8 * 8);
         return gpu;
     }
     const int groups = static_cast<int>(game.rules.size() + game.lateRules.size());

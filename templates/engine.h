@@ -575,9 +575,9 @@ PSC_DEVICE PSC_LEVEL_CHANGE void stepEvent(Env& e, UndoStack& u, bool newEpisode
 
 // One step: the input, and the auto-reset it may need.  Everything it runs
 // out of line goes through one call of outOfLine: with the state in
-// registers each call stores and reloads the environment, and every copy of
-// that code cost NVRTC and ptxas more than the rest of the turn (five calls
-// were a quarter of dictionary's build).
+// registers each call stores and reloads the environment, code that NVVM and
+// ptxas pay for at every call (without any, dictionary's NVRTC time was a
+// quarter shorter).
 PSC_DEVICE PSC_INPUT StepOutcome stepEnvironment(Env& e, UndoStack& u, int action) {
     StepOutcome out = {0.0f, 0, 0, 0, 0, 0, -1};
     clearShownMessage(e);
