@@ -49,6 +49,23 @@ def unit_definitions(source):
     return units
 
 
+def linked_units(base, failures, game, units):
+    """Each unit's PTX of a build linked from `units` units: (exported functions, entries) per unit."""
+    with tempfile.TemporaryDirectory() as cache:
+        ptx = subprocess.run(base + ["--emit", "ptx", "--verbose"], capture_output=True, text=True, timeout=600,
+                             env=dict(os.environ, XDG_CACHE_HOME=cache))
+    if ptx.returncode != 0 or f"{units} compile units at once" not in ptx.stderr:
+        failures.append(f"{game}: compiling and linking {units} units failed: {ptx.stderr[-1500:]}")
+        return None
+    parts = re.split(r"^// ---- compile unit \d+ of \d+$", ptx.stdout, flags=re.M)[1:]
+    if len(parts) != units:
+        failures.append(f"{game}: {len(parts)} PTX units, expected {units}")
+        return None
+    visible = [re.findall(r"^\.visible \.func\s+(?:\([^)]*\)\s*)?(\w+)\(", p, re.M) for p in parts]
+    entries = [sorted(re.findall(r"^\.visible \.entry (\w+)\(", p, re.M)) for p in parts]
+    return visible, entries
+
+
 def check(psc, game, units, failures):
     base = [psc, game, "--levels", "0", "--gpu-state", "memory", "--cuda-units", str(units)]
     first = subprocess.run(base + ["--emit", "cuda"], capture_output=True, text=True, timeout=120)
@@ -71,44 +88,20 @@ def check(psc, game, units, failures):
     if sorted(names) != sorted(set(names)) or sorted(names) != sorted(declared):
         failures.append(f"{game}: rule/group functions not defined exactly once each "
                         f"({len(names)} defined, {len(set(names))} distinct, {len(declared)} declared)")
-    with tempfile.TemporaryDirectory() as cache:
-        ptx = subprocess.run(base + ["--emit", "ptx", "--verbose"], capture_output=True, text=True, timeout=600,
-                             env=dict(os.environ, XDG_CACHE_HOME=cache))
-    if ptx.returncode != 0 or f"{units} compile units at once" not in ptx.stderr:
-        failures.append(f"{game}: compiling and linking {units} units failed: {ptx.stderr[-1500:]}")
+    linked = linked_units(base, failures, game, units)
+    if not linked:
         return
-    parts = re.split(r"^// ---- compile unit \d+ of \d+$", ptx.stdout, flags=re.M)[1:]
-    visible = [re.findall(r"^\.visible \.func\s+(?:\([^)]*\)\s*)?(\w+)\(", p, re.M) for p in parts]
-    entries = [re.findall(r"^\.visible \.entry (\w+)\(", p, re.M) for p in parts]
+    visible, entries = linked
     everywhere = [n for v in visible for n in v]
-    if len(parts) != units:
-        failures.append(f"{game}: {len(parts)} PTX units, expected {units}")
-    elif len(everywhere) != len(set(everywhere)):
+    if len(everywhere) != len(set(everywhere)):
         failures.append(f"{game}: a function is defined in two units' PTX")
-    elif sorted(entries[0]) != ["psc_observe_kernel", "psc_reset_kernel", "psc_run_kernel"] or any(entries[1:]):
+    elif entries[0] != ["psc_observe_kernel", "psc_reset_kernel", "psc_run_kernel"] or any(entries[1:]):
         failures.append(f"{game}: the kernels must all be in unit 0, found {entries}")
     elif not TURN_FUNCTIONS <= {demangled(n) for n in visible[turn_unit]}:
         failures.append(f"{game}: the turn's unit {turn_unit} does not export {sorted(TURN_FUNCTIONS)}: "
                         f"{sorted(demangled(n) for n in visible[turn_unit])}")
     print(f"{os.path.basename(game)}: {units} units, {len(names)} rule/group functions, "
           f"{len(everywhere)} exported from the PTX units")
-
-
-def linked_units(base, failures, game, units):
-    """Each unit's PTX of a build linked from `units` units: (exported functions, entries) per unit."""
-    with tempfile.TemporaryDirectory() as cache:
-        ptx = subprocess.run(base + ["--emit", "ptx", "--verbose"], capture_output=True, text=True, timeout=600,
-                             env=dict(os.environ, XDG_CACHE_HOME=cache))
-    if ptx.returncode != 0 or f"{units} compile units at once" not in ptx.stderr:
-        failures.append(f"{game}: compiling and linking {units} units failed: {ptx.stderr[-1500:]}")
-        return None
-    parts = re.split(r"^// ---- compile unit \d+ of \d+$", ptx.stdout, flags=re.M)[1:]
-    if len(parts) != units:
-        failures.append(f"{game}: {len(parts)} PTX units, expected {units}")
-        return None
-    visible = [re.findall(r"^\.visible \.func\s+(?:\([^)]*\)\s*)?(\w+)\(", p, re.M) for p in parts]
-    entries = [sorted(re.findall(r"^\.visible \.entry (\w+)\(", p, re.M)) for p in parts]
-    return visible, entries
 
 
 def check_registers(psc, game, failures):
