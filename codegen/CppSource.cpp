@@ -618,18 +618,18 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
         gpu.inShared = options.gpuState == "shared";
         gpu.inGroups = options.gpuState == "groups";
     } else {
-        // Registers make ptxas unroll every word of every board access into
-        // the rules, which it compiles as one kernel, so compile time grows
-        // with rule code times board words; up to this size NVRTC takes at
-        // most 2.1 s on the GPU machine's host, past it 3 s or more
-        // (docs/performance.md: traveling, 19.9 k, 1.6 s; constellationz,
-        // 19.0 k, 2.1 s; dictionary, 24.9 k, 3.0 s), and local memory,
-        // compiled in parallel units, is chosen instead.  Registers run
-        // these games 2.2-6.1x faster.  (Since replacements name each object
-        // they may change rather than clear whole layers, traveling's rules
-        // are 22.5 k of text for less work than its 21.8 k before; the
-        // budget moved from 22 k to keep it.)
-        constexpr size_t kRegisterCodeBudget = 23000;
+        // Registers make NVVM and ptxas unroll every word of every board
+        // access into the rules, which they compile as one kernel, so compile
+        // time grows with rule code times board words.  Since the stepping
+        // kernel compiles alone (two units, one out-of-line call a step), on
+        // one H100 host (docs/performance.md) NVRTC took 1.7-1.9 s for
+        // slidings (31.0 k), 2.0-2.8 s for takeheart (64.4 k) and 2.3-3.0 s
+        // for kettle (69.3 k), against 0.8-0.9 s in groups; the hosts lent
+        // differ by a third, so the budget keeps the whole build near 2 s
+        // there and under the 3 s bar on a slower one.  Past it, units
+        // compile in parallel instead.  Registers ran those three 1.5-2.1x
+        // faster than groups, limerick (124 k, 4.2 s) 1.6x faster.
+        constexpr size_t kRegisterCodeBudget = 40000;
         gpu.inRegisters = words <= kMaxUnrolledBoardWords && ruleBytes * static_cast<size_t>(words) <= kRegisterCodeBudget;
     }
     if (gpu.inRegisters) {
