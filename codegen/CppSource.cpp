@@ -34,6 +34,19 @@ constexpr int kMaxUnrolledBoardWords = 8;
 constexpr size_t kRuleBytesPerUnit = 16000;
 constexpr int kMaxCompileUnits = 8;
 
+// The registers layout's budget.  Registers make NVVM and ptxas unroll
+// every word of every board access into the rules, which they compile as one
+// kernel, so compile time grows with rule code times board words (its
+// weight).  Since the stepping kernel compiles alone (two units, one
+// out-of-line call a step), on one H100 host (docs/performance.md) NVRTC
+// took 1.7-1.9 s for slidings (31.0 k), 2.0-2.8 s for takeheart (64.4 k) and
+// 2.1-3.0 s for kettle (69.3 k), against 0.8-0.9 s in groups; the hosts lent
+// differ by a third, so the budget keeps the whole build near 2 s there and
+// under the 3 s bar on a slower one.  Past it, units compile in parallel
+// instead.  Registers ran those three 1.5-2.1x faster than groups, limerick
+// (124 k, 4.2 s) 1.6x faster.
+constexpr size_t kRegisterCodeBudget = 40000;
+
 // The groups layout (templates/core.h) compiles each group with its rules
 // inlined, on a copy of the state in registers, which costs NVRTC about
 // twice the memory layout's time per byte of rule code, and more with the
@@ -163,6 +176,8 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
     if (o.target != "cpu") {
         out.line(fmt::format("#define PSC_GROUP_UNITS {}  // units 1..this compile the groups on a copy",
                              gpu.rules.groupUnits));
+        out.line(fmt::format("#define PSC_GROUP_SPANS {}  // a unit's groups of a phase run on one copy (templates/core.h)",
+                             gpu.rules.spans ? 1 : 0));
     }
     out.line(fmt::format("#define PSC_UNROLL_BOARD_WORDS {}  // the GPU unrolls loops over objects, layers and words",
                          gpu.inRegisters || boardWords(g, o) <= kMaxUnrolledBoardWords ? 1 : 0));
@@ -618,18 +633,6 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
         gpu.inShared = options.gpuState == "shared";
         gpu.inGroups = options.gpuState == "groups";
     } else {
-        // Registers make NVVM and ptxas unroll every word of every board
-        // access into the rules, which they compile as one kernel, so compile
-        // time grows with rule code times board words.  Since the stepping
-        // kernel compiles alone (two units, one out-of-line call a step), on
-        // one H100 host (docs/performance.md) NVRTC took 1.7-1.9 s for
-        // slidings (31.0 k), 2.0-2.8 s for takeheart (64.4 k) and 2.3-3.0 s
-        // for kettle (69.3 k), against 0.8-0.9 s in groups; the hosts lent
-        // differ by a third, so the budget keeps the whole build near 2 s
-        // there and under the 3 s bar on a slower one.  Past it, units
-        // compile in parallel instead.  Registers ran those three 1.5-2.1x
-        // faster than groups, limerick (124 k, 4.2 s) 1.6x faster.
-        constexpr size_t kRegisterCodeBudget = 40000;
         gpu.inRegisters = words <= kMaxUnrolledBoardWords && ruleBytes * static_cast<size_t>(words) <= kRegisterCodeBudget;
     }
     if (gpu.inRegisters) {
@@ -676,6 +679,14 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
         gpu.rules.groupUnits = std::clamp(copyUnits, copyUnits > 0 ? 1 : 0, kMaxCompileUnits - 1 - std::min(apartUnits, 1));
         const int rest = std::clamp(apartUnits, std::min(apartUnits, 1), kMaxCompileUnits - 1 - gpu.rules.groupUnits);
         gpu.units = 1 + gpu.rules.groupUnits + rest;
+        // Spans where the turn runs each group once, in order (no loops, no
+        // rigid bans, no random stream, which a copy would hold in local
+        // memory, no group apart), and no group alone is more code than
+        // the registers layout compiles as one kernel: a span is not split.
+        const bool large = std::any_of(form.groupCodeBytes.begin(), form.groupCodeBytes.end(),
+                                       [&](size_t bytes) { return bytes * static_cast<size_t>(words) > kRegisterCodeBudget; });
+        gpu.rules.spans = apartUnits == 0 && !large && !usesRandom(game) && !game.hasRigid && game.loopPoints.empty() &&
+                          game.lateLoopPoints.empty();
     } else {
         gpu.rules.apart.clear();
         if (options.cudaUnits > 0) {

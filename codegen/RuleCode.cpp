@@ -563,6 +563,7 @@ struct GroupLayout {
     bool together = false;  // the groups layout: the group and its rules as one piece, on a copy
     bool apart = false;     // rules out of line, the group in place (the memory layout's way)
     size_t partBytes = 0;   // together: a larger group is split into parts of at most this much code
+    bool inSpan = false;    // together, inlined into a span that holds the copy: the group works in place
 };
 
 // A group's pieces: its rules and its function; `inlined` says which pieces
@@ -607,7 +608,7 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
     };
     // A copy of the random stream, which rules index at run time, would
     // live in local memory: a group that draws from it works in place.
-    const bool inPlace = layout.apart || groupUsesRandom(group);
+    const bool inPlace = layout.apart || layout.inSpan || groupUsesRandom(group);
     const std::string state = inPlace ? "PSC_GROUP_IN_PLACE(env, turn);" : "PSC_GROUP_WORKING_COPY(env, turn);";
     const bool split = layout.together && !group.random && layout.partBytes > 0 && bytes > layout.partBytes;
     if (split) {
@@ -649,8 +650,16 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
     add(std::move(function), false);
 }
 
+// A span's function: name, and its groups (indices into the early or late groups).
+struct Span {
+    std::string name;
+    bool late = false;
+    int unit = 1;
+    std::vector<size_t> groups;
+};
+
 void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGroup>& groups,
-                    const std::map<int, int>& loops, bool late) {
+                    const std::map<int, int>& loops, bool late, const std::vector<Span>& spans) {
     const std::string fn = late ? "applyLateRules" : "applyEarlyRules";
     out.line(late ? "// Late rules, in order (with their loops)." : "// The rules, in order (with their loops and rigid bans).");
     // Compiled in the turn's unit (PSC_DEFINES_TURN, templates/core.h), declared for all.
@@ -659,6 +668,15 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
     out.open("PSC_DEVICE PSC_TURN void " + fn + "(Env& e, Turn& t)");
     out.line("(void)e;");
     out.line("(void)t;");
+    if (!spans.empty()) {
+        for (const auto& span : spans) {
+            if (span.late == late) out.line(span.name + "(e, t);");
+        }
+        out.close();
+        out.raw("#endif\n");
+        out.line();
+        return;
+    }
     auto call = [&](size_t i) {
         std::string c = groupName(groups[i], i, late) + "(e, t)";
         // Not called while a board that all its rules need is empty.
@@ -701,9 +719,86 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
     out.line();
 }
 
+// The groups layout in spans (RuleUnits::spans): each group with its rules
+// inlined, working in place; runs of consecutive groups to units
+// 1..groupUnits by their weight; in each unit a span function a phase that
+// copies the state once and runs its groups on the copy.
+void emitRuleSpans(CodeWriter& out, const Game& game, const RuleUnits& layout) {
+    std::set<std::string> used;
+    const std::vector<std::string> messages = ruleMessages(game);
+    const bool layersExclusive = layersHoldOneObject(game);
+    struct Placed {
+        size_t index;
+        bool late;
+        Piece piece;
+        size_t weight;
+    };
+    std::vector<Placed> placed;
+    size_t total = 0;
+    for (const bool late : {false, true}) {
+        const auto& groups = late ? game.lateRules : game.rules;
+        for (size_t i = 0; i < groups.size(); ++i) {
+            std::vector<Piece> pieces;
+            std::vector<bool> inlined;
+            GroupLayout groupLayout;
+            groupLayout.together = true;
+            groupLayout.inSpan = true;
+            emitGroup(pieces, inlined, out.indent(), game, groups[i], i, late, groupLayout, used, messages, layersExclusive);
+            const size_t weight = pieces.front().text.size() * layout.copyWeight;
+            placed.push_back({i, late, std::move(pieces.front()), weight});
+            total += weight;
+        }
+    }
+    // A group goes to the unit its weight's midpoint falls in: runs of consecutive groups, balanced by weight.
+    const int units = std::max(layout.groupUnits, 1);
+    std::vector<Span> spans;
+    std::vector<int> unitOf;
+    size_t before = 0;
+    for (const auto& p : placed) {
+        const double middle = (static_cast<double>(before) + static_cast<double>(p.weight) / 2) / static_cast<double>(std::max<size_t>(total, 1));
+        const int unit = 1 + std::min(units - 1, static_cast<int>(middle * units));
+        before += p.weight;
+        unitOf.push_back(unit);
+        if (spans.empty() || spans.back().unit != unit || spans.back().late != p.late) {
+            spans.push_back({fmt::format("{}_rules_unit{}", p.late ? "late" : "early", unit), p.late, unit, {}});
+        }
+        spans.back().groups.push_back(p.index);
+    }
+    out.line("// The rule groups run in spans, one function a phase in each unit, each on one copy of the state (templates/core.h).");
+    for (const auto& span : spans) out.line("PSC_DEVICE PSC_SPAN void " + span.name + "(Env& env, Turn& turn);");
+    out.line();
+    for (int unit = 1; unit <= units; ++unit) {
+        out.raw(fmt::format("#if PSC_COMPILES_UNIT({})\n", unit));
+        for (size_t i = 0; i < placed.size(); ++i) {
+            if (unitOf[i] == unit) out.raw(placed[i].piece.text);
+        }
+        for (const auto& span : spans) {
+            if (span.unit != unit) continue;
+            out.open("PSC_DEVICE PSC_SPAN void " + span.name + "(Env& env, Turn& turn)");
+            out.line("PSC_GROUP_WORKING_COPY(env, turn);");
+            const auto& groups = span.late ? game.lateRules : game.rules;
+            for (size_t i : span.groups) {
+                const std::string call = groupName(groups[i], i, span.late) + "(e, t);";
+                const std::string needs = presenceTest(game, groupNeededPresence(game, groups[i], presenceWords(game)));
+                out.line(needs.empty() ? call : "if (PSC_GROUP_NEEDS(" + needs + ")) " + call);
+            }
+            out.close();
+            out.line();
+        }
+        out.raw(fmt::format("#endif  // compile unit {}\n", unit));
+    }
+    out.line();
+    emitApplyRules(out, game, game.rules, game.loopPoints, false, spans);
+    emitApplyRules(out, game, game.lateRules, game.lateLoopPoints, true, spans);
+}
+
 }  // namespace
 
 void emitRules(CodeWriter& out, const Game& game, const RuleUnits& layout, std::vector<size_t>* groupBytes) {
+    if (layout.groups && layout.spans && !groupBytes) {
+        emitRuleSpans(out, game, layout);
+        return;
+    }
     std::vector<Piece> pieces;
     std::vector<bool> inlined;  // of pieces: a group with its rules inlined (the groups layout)
     std::set<std::string> used;
@@ -763,8 +858,8 @@ void emitRules(CodeWriter& out, const Game& game, const RuleUnits& layout, std::
         }
         out.line();
     }
-    emitApplyRules(out, game, game.rules, game.loopPoints, false);
-    emitApplyRules(out, game, game.lateRules, game.lateLoopPoints, true);
+    emitApplyRules(out, game, game.rules, game.loopPoints, false, {});
+    emitApplyRules(out, game, game.lateRules, game.lateLoopPoints, true, {});
 }
 
 bool groupUsesRandom(const ir::RuleGroup& group) {

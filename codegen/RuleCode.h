@@ -31,6 +31,12 @@ struct RuleUnits {
     // as the memory layout.  A byte of an inlined group weighs copyWeight when
     // pieces are spread over units.
     bool groups = false;
+    // Spans (the groups layout of a game without loops, rigid bodies or
+    // random): units 1..groupUnits each take a run of consecutive groups,
+    // early then late, and a unit's early groups and its late groups each
+    // run as one function (a span) on one copy of the state, their rules
+    // and groups inlined into it; the turn calls the spans in order.
+    bool spans = false;
     int groupUnits = 0;
     size_t partBytes = 0;
     size_t copyWeight = 1;

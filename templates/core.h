@@ -23,8 +23,10 @@
 //  - groups: the environment lives in local memory, and each rule group is
 //    compiled once, out of line, with its rules and layer helpers inlined into
 //    it: it works on a copy of the environment that ptxas keeps in registers,
-//    and writes back only what changed (PSC_GROUP_WORKING_COPY).  Compile time
-//    grows with the largest group, not with the game;
+//    and writes back only what changed (PSC_GROUP_WORKING_COPY).  With
+//    PSC_GROUP_SPANS a unit's consecutive groups of a phase are inlined into
+//    one function (PSC_SPAN) on one copy instead.  Compile time grows with
+//    the largest unit, not with the game;
 //  - memory (large games): rules, layer helpers and the turn (PSC_TURN) are
 //    compiled once each, out of line, over an environment in local memory,
 //    which keeps code size and compile time linear in the game.
@@ -53,6 +55,8 @@
 #define PSC_DEVICE __device__
 #define PSC_INLINE __forceinline__
 #define PSC_COLD inline __noinline__
+// A span of rule groups (the groups layout), called from the turn's unit.
+#define PSC_SPAN __noinline__
 // PSC_RULE_APART: a rule of a group the groups layout keeps out of line (a
 // random group too large to compile inlined in time, which cannot be split).
 #if PSC_STATE_IN_REGISTERS
@@ -62,10 +66,15 @@
 #define PSC_LAYER __forceinline__
 #define PSC_TURN __forceinline__
 #elif PSC_STATE_IN_GROUPS && defined(PSC_UNIT) && PSC_UNIT > 0 && PSC_UNIT <= PSC_GROUP_UNITS
-// A unit of the groups layout's groups on a copy.
+// A unit of the groups layout's groups on a copy: each group a function, or
+// (PSC_GROUP_SPANS) inlined into the unit's spans, which hold the copy.
 #define PSC_RULE __forceinline__
 #define PSC_RULE_APART __noinline__
+#if PSC_GROUP_SPANS
+#define PSC_GROUP __forceinline__
+#else
 #define PSC_GROUP __noinline__
+#endif
 #define PSC_LAYER __forceinline__
 #define PSC_TURN inline __noinline__
 #define PSC_GROUP_COPIES_STATE 1
@@ -136,6 +145,7 @@
 #define PSC_RULE
 #define PSC_RULE_APART
 #define PSC_GROUP
+#define PSC_SPAN
 #define PSC_GROUP_COPIES_STATE 0
 #define PSC_LAYER inline
 #define PSC_TURN PSC_INLINE

@@ -9,7 +9,12 @@ registers.  For each game:
 - a group larger than the part budget passes over parts of its rules, and the
   parts call the rules in the order the memory layout's group calls them;
 - NVRTC compiles and links every unit, and no group on a copy keeps a frame
-  in local memory (the copy stayed in registers).
+  in local memory (the copy stayed in registers);
+- with spans (PSC_GROUP_SPANS: no loops, rigid bodies or groups apart), each
+  unit's early groups and its late groups run as one function on one copy,
+  the groups in place with their rules in the span's unit; the spans, in the
+  turn's order, call the groups in the memory layout's order, unsplit, and
+  no span keeps its copy in local memory.
 
     cuda_groups_layout.py PSC GAME... [--large-group GAME]
 
@@ -22,6 +27,7 @@ import subprocess
 import sys
 import tempfile
 
+SPAN = re.compile(r"^\s*PSC_DEVICE PSC_SPAN void (\w+)\(Env& env, Turn& turn\) \{\n\s*PSC_GROUP_WORKING_COPY\(env, turn\);", re.M)
 GROUP = re.compile(r"^\s*PSC_DEVICE PSC_GROUP bool (\w+)\(Env& env, Turn& turn\) \{\n\s*(PSC_GROUP_\w+)\(env, turn\);", re.M)
 RULE = re.compile(r"^\s*PSC_DEVICE PSC_RULE bool (\w+)\(Env& e, Turn& t\) \{", re.M)
 
@@ -36,6 +42,44 @@ def calls(body_start, source):
     """The functions a group body calls with `any |= f(e, t);` (or `any |= (PSC_RULE_NEEDS(...) && f(e, t));`), up to its `return`."""
     end = source.index("\n    }\n", body_start)
     return re.findall(r"any \|= (?:\(PSC_RULE_NEEDS\(.*?\) && )?(\w+)\(e, t\)\)?;", source[body_start:end])
+
+
+def turn_calls(source, function):
+    """The functions applyEarlyRules or applyLateRules calls, in order (a group `g(e, t)` or a span)."""
+    m = re.search(rf"PSC_TURN void {function}\(Env& e, Turn& t\) \{{\n(.*?)\n    \}}\n", source, re.S)
+    return re.findall(r"(\w+)\(e, t\)", m.group(1)) if m else []
+
+
+def check_spans(name, source, units, copy_units, memory, failures):
+    """The spans' structure and order; returns the functions on a copy (the spans)."""
+    spans = {}
+    for k, text in units.items():
+        for m in SPAN.finditer(text):
+            end = text.index("\n    }\n", m.end())
+            groups = re.findall(r"(\w+)\(e, t\);", text[m.end():end])
+            spans[m.group(1)] = groups
+            if not 1 <= k <= copy_units:
+                failures.append(f"{name}: span {m.group(1)} in unit {k}, past unit {copy_units}")
+            for g in groups:
+                body = re.search(rf"PSC_GROUP bool {g}\(Env& env, Turn& turn\) \{{\n\s*(PSC_GROUP_\w+)\(env, turn\);", text)
+                if body is None:
+                    failures.append(f"{name}: span {m.group(1)} calls {g}, not defined in its unit {k}")
+                    continue
+                if body.group(1) != "PSC_GROUP_IN_PLACE":
+                    failures.append(f"{name}: {g} in a span makes a copy of its own ({body.group(1)})")
+                missing = [r for r in calls(body.end(), text) if not re.search(rf"PSC_RULE bool {r}\(Env& e, Turn& t\) \{{", text)]
+                if missing:
+                    failures.append(f"{name}: {g} calls rules defined in another unit: {missing}")
+                if re.search(r"_part\d+\(", text[body.end():text.index("\n    }\n", body.end())]):
+                    failures.append(f"{name}: {g} is split into parts inside a span")
+    for phase in ("applyEarlyRules", "applyLateRules"):
+        order = [g for span in turn_calls(source, phase) for g in spans.get(span, ["<missing " + span + ">"])]
+        reference = turn_calls(memory, phase)
+        if order != reference:
+            failures.append(f"{name}: {phase}'s spans call {order}, the memory layout's turn {reference}")
+    if not spans:
+        failures.append(f"{name}: PSC_GROUP_SPANS is set and no span was emitted")
+    return list(spans)
 
 
 def emit(psc, game, *options, env=None):
@@ -56,7 +100,10 @@ def check(psc, game, failures, expect_parts=False):
         return
     units = units_of(source)
     on_copy, split = [], {}
-    for k, text in units.items():
+    if "#define PSC_GROUP_SPANS 1" in source:
+        on_copy = check_spans(name, source, units, copy_units, memory.stdout, failures)
+        expect_parts = False
+    for k, text in units.items() if not on_copy else []:
         for m in GROUP.finditer(text):
             function, state = m.group(1), m.group(2)
             if state == "PSC_GROUP_WORKING_COPY":
@@ -86,12 +133,14 @@ def check(psc, game, failures, expect_parts=False):
         failures.append(f"{name}: NVRTC failed on the groups layout: {ptx.stderr[-1500:]}")
         return
     for function in on_copy:
-        body = re.search(rf"^\.visible \.func\s+\([^)]*\)\s*\w*{function}\w*\(.*?^\}}", ptx.stdout, re.M | re.S)
+        body = re.search(rf"^\.visible \.func\s+(?:\([^)]*\)\s*)?\w*{function}\w*\(.*?^\}}", ptx.stdout, re.M | re.S)
         if body is None:
             failures.append(f"{name}: {function} not found in the PTX")
         elif "__local_depot" in body.group(0):
             failures.append(f"{name}: {function} keeps its copy in local memory")
-    print(f"{name}: {copy_units} copy units, {len(on_copy)} functions on a copy, {len(split)} groups split into parts")
+    spans = "spans" if "#define PSC_GROUP_SPANS 1" in source else "groups"
+    print(f"{name}: {copy_units} copy units, {len(on_copy)} functions on a copy ({spans}), {len(split)} groups split into parts")
+    return on_copy
 
 
 LARGE_GROUP = "\n".join(
@@ -99,13 +148,13 @@ LARGE_GROUP = "\n".join(
     [f"+ [ > Player | Crate | {'| ' * k}Crate ] -> [ > Player | > Crate | {'| ' * k}Crate ]" for k in range(12)])
 
 
-def with_large_group(game, tmp):
-    """The game with a group of many rules added at the end of its rules."""
+def with_rules(game, tmp, rules_text, prefix):
+    """The game with rules_text added at the start of its rules."""
     text = open(game).read()
     rules = re.search(r"^=+\s*\nRULES\s*\n=+\s*\n", text, re.M | re.I)
-    path = os.path.join(tmp, "large_group_" + os.path.basename(game))
+    path = os.path.join(tmp, prefix + os.path.basename(game))
     with open(path, "w") as f:
-        f.write(text[:rules.end()] + LARGE_GROUP + "\n" + text[rules.end():])
+        f.write(text[:rules.end()] + rules_text + "\n" + text[rules.end():])
     return path
 
 
@@ -120,7 +169,13 @@ def main():
         check(a.psc, game, failures)
     if a.large_group:
         with tempfile.TemporaryDirectory() as tmp:
-            check(a.psc, with_large_group(a.large_group, tmp), failures, expect_parts=True)
+            check(a.psc, with_rules(a.large_group, tmp, LARGE_GROUP, "large_group_"), failures, expect_parts=True)
+            # The same rules as groups of their own: spans over several units.
+            many = with_rules(a.large_group, tmp, LARGE_GROUP.replace("\n+ ", "\n"), "many_groups_")
+            before = len(failures)
+            spans = check(a.psc, many, failures)
+            if len(failures) == before and len(set(re.findall(r"_rules_unit(\d+)", " ".join(spans or [])))) < 2:
+                failures.append(f"{os.path.basename(many)}: spans in fewer than two units: {spans}")
     for f in failures:
         print("FAIL", f)
     sys.exit(1 if failures else 0)
