@@ -14,7 +14,8 @@ registers.  For each game:
   unit's early groups and its late groups run as one function on one copy,
   the groups in place with their rules in the span's unit; the spans, in the
   turn's order, call the groups in the memory layout's order, unsplit, and
-  no span keeps its copy in local memory.
+  no span keeps its copy in local memory; the plugin's CPU backend, compiled
+  from the same source, steps as the CPU plugin does.
 
     cuda_groups_layout.py PSC GAME... [--large-group GAME]
 
@@ -22,10 +23,16 @@ registers.  For each game:
 must be split into parts."""
 import argparse
 import os
+import random
 import re
 import subprocess
 import sys
 import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+import numpy as np  # noqa: E402
+from psc import Plugin, _abi  # noqa: E402
+from psc.batch import Batch  # noqa: E402
 
 SPAN = re.compile(r"^\s*PSC_DEVICE PSC_SPAN void (\w+)\(Env& env, Turn& turn\) \{\n\s*PSC_GROUP_WORKING_COPY\(env, turn\);", re.M)
 GROUP = re.compile(r"^\s*PSC_DEVICE PSC_GROUP bool (\w+)\(Env& env, Turn& turn\) \{\n\s*(PSC_GROUP_\w+)\(env, turn\);", re.M)
@@ -80,6 +87,36 @@ def check_spans(name, source, units, copy_units, memory, failures):
     if not spans:
         failures.append(f"{name}: PSC_GROUP_SPANS is set and no span was emitted")
     return list(spans)
+
+
+def observations(path, steps=1500, envs=4):
+    """What envs environments on the CPU backend show after each of `steps` random inputs (auto reset)."""
+    batch = Batch(Plugin(path), envs, _abi.BACKEND_CPU, 1, 0, 1, 0)
+    batch.reset([0] * envs, [1] * envs)
+    rng = random.Random(7)
+    shown = []
+    for _ in range(steps):
+        batch.step([rng.randrange(5) for _ in range(envs)])
+        shown.append(batch.observe().copy())
+    return np.stack(shown)
+
+
+def check_cpu_steps(psc, game, failures):
+    """The spans plugin's CPU backend (compiled from the CUDA source's units) against the CPU plugin."""
+    name = os.path.basename(game)
+    with tempfile.TemporaryDirectory() as tmp:
+        env = dict(os.environ, XDG_CACHE_HOME=tmp)
+        built = {}
+        for target, options in (("cpu", []), ("all", ["--gpu-state", "groups"])):
+            path = os.path.join(tmp, f"{target}.so")
+            r = subprocess.run([psc, game, "--levels", "0", "-o", path, "--target", target, *options],
+                               capture_output=True, text=True, timeout=600, env=env)
+            if r.returncode:
+                failures.append(f"{name}: --target {target} failed: {r.stderr[-800:]}")
+                return
+            built[target] = observations(path)
+    if not np.array_equal(built["cpu"], built["all"]):
+        failures.append(f"{name}: the spans plugin's CPU backend steps otherwise than the CPU plugin")
 
 
 def emit(psc, game, *options, env=None):
@@ -176,6 +213,10 @@ def main():
             spans = check(a.psc, many, failures)
             if len(failures) == before and len(set(re.findall(r"_rules_unit(\d+)", " ".join(spans or [])))) < 2:
                 failures.append(f"{os.path.basename(many)}: spans in fewer than two units: {spans}")
+            check_cpu_steps(a.psc, many, failures)
+    for game in a.games:
+        if "#define PSC_GROUP_SPANS 1" in emit(a.psc, game, "--emit", "cuda", "--gpu-state", "groups").stdout:
+            check_cpu_steps(a.psc, game, failures)
     for f in failures:
         print("FAIL", f)
     sys.exit(1 if failures else 0)
