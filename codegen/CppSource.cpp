@@ -595,12 +595,17 @@ int boardWords(const ir::Game& game, const SourceOptions& options) {
 
 namespace {
 
+// The turn's state in 64-bit words: the boards of every object and moving
+// layer, the inside and row-start masks, and the turn's backup of the objects.
+int turnStateWords(const ir::Game& game, int words) {
+    const int movingLayers = std::popcount(movingLayerBits(game));
+    return (2 * std::max(1, game.objectCount) + 5 * movingLayers + 2) * words;
+}
+
 // With the state in registers ptxas would take up to 255 registers a thread
 // and leave two 128-thread blocks an SM; more warps hide more latency than
 // the spills of a register cap cost.  Four blocks (at most 128 registers)
-// where the turn's state (the boards of every object and moving layer, the
-// inside and row-start masks, and the turn's backup of the objects) is at
-// most 48 64-bit words, leaving a quarter of the registers to the rules, and
+// where the turn's state (turnStateWords) is at most 48 64-bit words, leaving a quarter of the registers to the rules, and
 // the rules' code times board words is at most 20 k, below the layout's
 // budget, where ptxas's extra spilling does not slow the build; else three
 // (at most 168).  On one H100 (docs/performance.md), against three: match3
@@ -611,9 +616,7 @@ namespace {
 int registerLayoutBlocks(const ir::Game& game, int words, size_t ruleBytes) {
     constexpr int kFourBlockStateWords = 48;
     constexpr size_t kFourBlockCodeWeight = 20000;
-    const int movingLayers = std::popcount(movingLayerBits(game));
-    const int stateWords = (2 * std::max(1, game.objectCount) + 5 * movingLayers + 2) * words;
-    const bool small = stateWords <= kFourBlockStateWords && ruleBytes * static_cast<size_t>(words) <= kFourBlockCodeWeight;
+    const bool small = turnStateWords(game, words) <= kFourBlockStateWords && ruleBytes * static_cast<size_t>(words) <= kFourBlockCodeWeight;
     return small ? 4 : 3;
 }
 
@@ -633,7 +636,14 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
         gpu.inShared = options.gpuState == "shared";
         gpu.inGroups = options.gpuState == "groups";
     } else {
-        gpu.inRegisters = words <= kMaxUnrolledBoardWords && ruleBytes * static_cast<size_t>(words) <= kRegisterCodeBudget;
+        // A turn's state of more than 127 words, two registers each, cannot
+        // be held in a thread's 255 registers: ptxas spills it, slowly (on
+        // one H100, corpus games of 136-497 words built in 2.2-11.5 s in
+        // registers, 0.9-1.7 s in groups, and stepped 0.77-1.27x as fast;
+        // games of 82-101 words 1.6-4.1x; docs/performance.md).
+        constexpr int kRegisterStateWords = 127;
+        gpu.inRegisters = words <= kMaxUnrolledBoardWords && ruleBytes * static_cast<size_t>(words) <= kRegisterCodeBudget &&
+                          turnStateWords(game, words) <= kRegisterStateWords;
     }
     if (gpu.inRegisters) {
         gpu.runBlocks = registerLayoutBlocks(game, words, ruleBytes);
