@@ -70,6 +70,7 @@ struct GpuCode {
     int runBlocks = 0;         // the stepping kernel's 128-thread blocks an SM (its launch bounds), or 0: none
     int unitRegisters = 0;     // a cap on every unit's registers a thread (0: none): see emitConstants
     RuleUnits rules;           // where the rules go (with the groups layout, which groups stay apart)
+    std::string why;           // why `auto` took or left the registers layout (a comment in the source)
 };
 
 std::string cString(const std::string& utf8) { return json::quote(utf8); }
@@ -169,6 +170,7 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
     out.line(fmt::format("#define PSC_HAS_RULE_MESSAGES {}", ruleMessages(g).empty() ? 0 : 1));
     out.line(fmt::format("#define PSC_STATE_IN_REGISTERS {}  // the GPU's state layout (templates/core.h)",
                          gpu.inRegisters ? 1 : 0));
+    if (o.target != "cpu" && !gpu.why.empty()) out.line("// --gpu-state auto takes registers for " + gpu.why + ".");
     out.line(fmt::format("#define PSC_STATE_IN_SHARED {}  // the stepping kernel's copy in shared memory",
                          gpu.inShared ? 1 : 0));
     out.line(fmt::format("#define PSC_STATE_IN_GROUPS {}  // each rule group on a copy in registers",
@@ -642,8 +644,12 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
         // registers, 0.9-1.7 s in groups, and stepped 0.77-1.27x as fast;
         // games of 82-101 words 1.6-4.1x; docs/performance.md).
         constexpr int kRegisterStateWords = 127;
-        gpu.inRegisters = words <= kMaxUnrolledBoardWords && ruleBytes * static_cast<size_t>(words) <= kRegisterCodeBudget &&
-                          turnStateWords(game, words) <= kRegisterStateWords;
+        const size_t weight = ruleBytes * static_cast<size_t>(words);
+        const int stateWords = turnStateWords(game, words);
+        gpu.inRegisters = words <= kMaxUnrolledBoardWords && weight <= kRegisterCodeBudget && stateWords <= kRegisterStateWords;
+        gpu.why = fmt::format("boards of at most {} words (here {}), rule code x board words of at most {} (here {}) and a turn's "
+                              "state of at most {} words (here {})",
+                              kMaxUnrolledBoardWords, words, kRegisterCodeBudget, weight, kRegisterStateWords, stateWords);
     }
     if (gpu.inRegisters) {
         gpu.runBlocks = registerLayoutBlocks(game, words, ruleBytes);
