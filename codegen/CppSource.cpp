@@ -607,8 +607,9 @@ int turnStateWords(const ir::Game& game, int words) {
 // With the state in registers ptxas would take up to 255 registers a thread
 // and leave two 128-thread blocks an SM; more warps hide more latency than
 // the spills of a register cap cost.  Four blocks (at most 128 registers)
-// where the turn's state (turnStateWords) is at most 48 64-bit words, leaving a quarter of the registers to the rules, and
-// the rules' code times board words is at most 20 k, below the layout's
+// where the turn's state (turnStateWords) is at most 48 64-bit words,
+// leaving a quarter of the registers to the rules, and the rules' code
+// times board words is at most 20 k, below the layout's
 // budget, where ptxas's extra spilling does not slow the build; else three
 // (at most 168).  On one H100 (docs/performance.md), against three: match3
 // (34 words, 16.5 k of code) +14 % and blocks (45, 1.4 k) +13 % at their
@@ -618,7 +619,8 @@ int turnStateWords(const ir::Game& game, int words) {
 int registerLayoutBlocks(const ir::Game& game, int words, size_t ruleBytes) {
     constexpr int kFourBlockStateWords = 48;
     constexpr size_t kFourBlockCodeWeight = 20000;
-    const bool small = turnStateWords(game, words) <= kFourBlockStateWords && ruleBytes * static_cast<size_t>(words) <= kFourBlockCodeWeight;
+    const bool small =
+        turnStateWords(game, words) <= kFourBlockStateWords && ruleBytes * static_cast<size_t>(words) <= kFourBlockCodeWeight;
     return small ? 4 : 3;
 }
 

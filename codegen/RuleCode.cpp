@@ -650,6 +650,12 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
     add(std::move(function), false);
 }
 
+// The test before a group's call: every board that all its rules need
+// holds something (empty when there is nothing to test).
+std::string groupNeedsTest(const Game& g, const ir::RuleGroup& group) {
+    return presenceTest(g, groupNeededPresence(g, group, presenceWords(g)));
+}
+
 // A span's function: name, and its groups (indices into the early or late groups).
 struct Span {
     std::string name;
@@ -679,8 +685,7 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
     }
     auto call = [&](size_t i) {
         std::string c = groupName(groups[i], i, late) + "(e, t)";
-        // Not called while a board that all its rules need is empty.
-        const std::string needs = presenceTest(g, groupNeededPresence(g, groups[i], presenceWords(g)));
+        const std::string needs = groupNeedsTest(g, groups[i]);
         if (!needs.empty()) c = "(PSC_GROUP_NEEDS(" + needs + ") && " + c + ")";
         if (!late) {
             auto it = g.groupIndexToRigidGroupIndex.find(static_cast<int>(i));
@@ -779,7 +784,7 @@ void emitRuleSpans(CodeWriter& out, const Game& game, const RuleUnits& layout) {
             const auto& groups = span.late ? game.lateRules : game.rules;
             for (size_t i : span.groups) {
                 const std::string call = groupName(groups[i], i, span.late) + "(e, t);";
-                const std::string needs = presenceTest(game, groupNeededPresence(game, groups[i], presenceWords(game)));
+                const std::string needs = groupNeedsTest(game, groups[i]);
                 out.line(needs.empty() ? call : "if (PSC_GROUP_NEEDS(" + needs + ")) " + call);
             }
             out.close();

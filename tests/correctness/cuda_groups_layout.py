@@ -137,23 +137,24 @@ def check(psc, game, failures, expect_parts=False):
         return
     units = units_of(source)
     on_copy, split = [], {}
-    if "#define PSC_GROUP_SPANS 1" in source:
+    uses_spans = "#define PSC_GROUP_SPANS 1" in source
+    if uses_spans:
         on_copy = check_spans(name, source, units, copy_units, memory.stdout, failures)
-        expect_parts = False
-    for k, text in units.items() if not on_copy else []:
-        for m in GROUP.finditer(text):
-            function, state = m.group(1), m.group(2)
-            if state == "PSC_GROUP_WORKING_COPY":
-                on_copy.append(function)
-                if not 1 <= k <= copy_units:
-                    failures.append(f"{name}: {function} works on a copy in unit {k}, past unit {copy_units}")
-                missing = [r for r in calls(m.end(), text) if not re.search(rf"PSC_RULE bool {r}\(Env& e, Turn& t\) \{{", text)]
-                if missing:
-                    failures.append(f"{name}: {function} calls rules defined in another unit: {missing}")
-            elif re.search(r"_part\d+\(", text[m.end():text.index("\n    }\n", m.end())]):
-                split[function] = calls(m.end(), text)
-    if not on_copy:
-        failures.append(f"{name}: no group works on a copy")
+    else:
+        for k, text in units.items():
+            for m in GROUP.finditer(text):
+                function, state = m.group(1), m.group(2)
+                if state == "PSC_GROUP_WORKING_COPY":
+                    on_copy.append(function)
+                    if not 1 <= k <= copy_units:
+                        failures.append(f"{name}: {function} works on a copy in unit {k}, past unit {copy_units}")
+                    missing = [r for r in calls(m.end(), text) if not re.search(rf"PSC_RULE bool {r}\(Env& e, Turn& t\) \{{", text)]
+                    if missing:
+                        failures.append(f"{name}: {function} calls rules defined in another unit: {missing}")
+                elif re.search(r"_part\d+\(", text[m.end():text.index("\n    }\n", m.end())]):
+                    split[function] = calls(m.end(), text)
+        if not on_copy:
+            failures.append(f"{name}: no group works on a copy")
     # The memory layout's groups call the same rules in the same order.
     reference = {m.group(1): calls(m.end(), memory.stdout) for m in GROUP.finditer(memory.stdout)}
     bodies = {m.group(1): calls(m.end(), text) for text in units.values() for m in GROUP.finditer(text)}
@@ -161,7 +162,7 @@ def check(psc, game, failures, expect_parts=False):
         flattened = [rule for part in parts for rule in bodies.get(part, ["<missing " + part + ">"])]
         if flattened != reference.get(group):
             failures.append(f"{name}: {group}'s parts call {flattened}, the memory layout's group {reference.get(group)}")
-    if expect_parts and not split:
+    if expect_parts and not uses_spans and not split:
         failures.append(f"{name}: its large group was not split into parts")
     with tempfile.TemporaryDirectory() as cache:
         ptx = emit(psc, game, "--emit", "ptx", "--gpu-state", "groups", "--verbose",
@@ -175,8 +176,10 @@ def check(psc, game, failures, expect_parts=False):
             failures.append(f"{name}: {function} not found in the PTX")
         elif "__local_depot" in body.group(0):
             failures.append(f"{name}: {function} keeps its copy in local memory")
-    spans = "spans" if "#define PSC_GROUP_SPANS 1" in source else "groups"
-    print(f"{name}: {copy_units} copy units, {len(on_copy)} functions on a copy ({spans}), {len(split)} groups split into parts")
+    if uses_spans:
+        check_cpu_steps(psc, game, failures)
+    print(f"{name}: {copy_units} copy units, {len(on_copy)} functions on a copy ({'spans' if uses_spans else 'groups'}), "
+          f"{len(split)} groups split into parts")
     return on_copy
 
 
@@ -213,10 +216,6 @@ def main():
             spans = check(a.psc, many, failures)
             if len(failures) == before and len(set(re.findall(r"_rules_unit(\d+)", " ".join(spans or [])))) < 2:
                 failures.append(f"{os.path.basename(many)}: spans in fewer than two units: {spans}")
-            check_cpu_steps(a.psc, many, failures)
-    for game in a.games:
-        if "#define PSC_GROUP_SPANS 1" in emit(a.psc, game, "--emit", "cuda", "--gpu-state", "groups").stdout:
-            check_cpu_steps(a.psc, game, failures)
     for f in failures:
         print("FAIL", f)
     sys.exit(1 if failures else 0)
