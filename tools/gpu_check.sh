@@ -33,6 +33,9 @@
 #             (buildtime_NAME.txt), so that a slow spell of the host falls on all of them
 #   profile   Nsight Compute on each benchmark game's stepping kernel (PROFILE_BATCH environments, default 131072,
 #             8 steps a launch, level 0): one CSV per game in profile.tar.gz; bench/ncu_table.py makes the table
+#   divergence Nsight Compute's source counters of the stepping kernel, SASS instruction by instruction, for each of
+#             DIVERGENCE_GAMES (default all), as profile launches it (built with -lineinfo): divergence.tar.gz;
+#             bench/ncu_divergence.py makes the table
 #   multigpu  (several GPUs) python/tests/test_multi_gpu.py; then for each of MULTI_GAMES (game:batches, batches
 #             per GPU) psc bench --devices over 1 and all GPUs (one process), and examples/torchrun_rollout.py
 #             on 1 and all GPUs at the last batch (one process a GPU)
@@ -252,6 +255,20 @@ for stage in "$@"; do
             echo "$name: ncu exit $?, $(grep -c psc_run_kernel "$out/profile/$name.csv") metric rows"
         done
         tar -czf "$out/profile.tar.gz" -C "$out" profile && rm -rf "$out/profile"
+        ;;
+    divergence)
+        mkdir -p "$out/divergence"
+        for game in ${DIVERGENCE_GAMES:-$(basename -s .txt bench/games/*.txt)}; do
+            XDG_CACHE_HOME=/tmp/psc-divergence-cache PSC_NVRTC_OPTIONS=-lineinfo timeout 300 \
+                ncu --clock-control none --kernel-name psc_run_kernel --launch-skip 1 --launch-count 1 \
+                --section SourceCounters -o "/tmp/psc-divergence-$game" -f \
+                "$psc" bench "bench/games/$game.txt" --backend cuda --batch "${PROFILE_BATCH:-131072}" --steps 8 --repeats 1 \
+                --warmup 1 "${fast[@]}" "${state[@]}" > "$out/divergence/$game.log" 2>&1
+            echo "$game: ncu exit $?"
+            ncu --import "/tmp/psc-divergence-$game.ncu-rep" --page source --csv --print-source sass \
+                > "$out/divergence/${game}_sass.csv" 2>> "$out/divergence/$game.log"
+        done
+        tar -czf "$out/divergence.tar.gz" -C "$out" divergence && rm -rf "$out/divergence"
         ;;
     multigpu)
         # Results in one archive, multigpu.tar.gz (a device call brings back a few files only).
