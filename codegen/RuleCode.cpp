@@ -737,6 +737,7 @@ void emitRuleSpans(CodeWriter& out, const Game& game, const RuleUnits& layout) {
         bool late;
         Piece piece;
         size_t weight;
+        int unit = 1;
     };
     std::vector<Placed> placed;
     size_t total = 0;
@@ -757,15 +758,13 @@ void emitRuleSpans(CodeWriter& out, const Game& game, const RuleUnits& layout) {
     // A group goes to the unit its weight's midpoint falls in: runs of consecutive groups, balanced by weight.
     const int units = std::max(layout.groupUnits, 1);
     std::vector<Span> spans;
-    std::vector<int> unitOf;
     size_t before = 0;
-    for (const auto& p : placed) {
+    for (auto& p : placed) {
         const double middle = (static_cast<double>(before) + static_cast<double>(p.weight) / 2) / static_cast<double>(std::max<size_t>(total, 1));
-        const int unit = 1 + std::min(units - 1, static_cast<int>(middle * units));
+        p.unit = 1 + std::min(units - 1, static_cast<int>(middle * units));
         before += p.weight;
-        unitOf.push_back(unit);
-        if (spans.empty() || spans.back().unit != unit || spans.back().late != p.late) {
-            spans.push_back({fmt::format("{}_rules_unit{}", p.late ? "late" : "early", unit), p.late, unit, {}});
+        if (spans.empty() || spans.back().unit != p.unit || spans.back().late != p.late) {
+            spans.push_back({fmt::format("{}_rules_unit{}", p.late ? "late" : "early", p.unit), p.late, p.unit, {}});
         }
         spans.back().groups.push_back(p.index);
     }
@@ -774,8 +773,8 @@ void emitRuleSpans(CodeWriter& out, const Game& game, const RuleUnits& layout) {
     out.line();
     for (int unit = 1; unit <= units; ++unit) {
         out.raw(fmt::format("#if PSC_COMPILES_UNIT({})\n", unit));
-        for (size_t i = 0; i < placed.size(); ++i) {
-            if (unitOf[i] == unit) out.raw(placed[i].piece.text);
+        for (const auto& p : placed) {
+            if (p.unit == unit) out.raw(p.piece.text);
         }
         for (const auto& span : spans) {
             if (span.unit != unit) continue;

@@ -51,6 +51,11 @@ def calls(body_start, source):
     return re.findall(r"any \|= (?:\(PSC_RULE_NEEDS\(.*?\) && )?(\w+)\(e, t\)\)?;", source[body_start:end])
 
 
+def rules_elsewhere(body_start, text):
+    """The rules the group starting at body_start calls that its unit's text does not define."""
+    return [r for r in calls(body_start, text) if not re.search(rf"PSC_RULE bool {r}\(Env& e, Turn& t\) \{{", text)]
+
+
 def turn_calls(source, function):
     """The functions applyEarlyRules or applyLateRules calls, in order (a group `g(e, t)` or a span)."""
     m = re.search(rf"PSC_TURN void {function}\(Env& e, Turn& t\) \{{\n(.*?)\n    \}}\n", source, re.S)
@@ -74,7 +79,7 @@ def check_spans(name, source, units, copy_units, memory, failures):
                     continue
                 if body.group(1) != "PSC_GROUP_IN_PLACE":
                     failures.append(f"{name}: {g} in a span makes a copy of its own ({body.group(1)})")
-                missing = [r for r in calls(body.end(), text) if not re.search(rf"PSC_RULE bool {r}\(Env& e, Turn& t\) \{{", text)]
+                missing = rules_elsewhere(body.end(), text)
                 if missing:
                     failures.append(f"{name}: {g} calls rules defined in another unit: {missing}")
                 if re.search(r"_part\d+\(", text[body.end():text.index("\n    }\n", body.end())]):
@@ -148,7 +153,7 @@ def check(psc, game, failures, expect_parts=False):
                     on_copy.append(function)
                     if not 1 <= k <= copy_units:
                         failures.append(f"{name}: {function} works on a copy in unit {k}, past unit {copy_units}")
-                    missing = [r for r in calls(m.end(), text) if not re.search(rf"PSC_RULE bool {r}\(Env& e, Turn& t\) \{{", text)]
+                    missing = rules_elsewhere(m.end(), text)
                     if missing:
                         failures.append(f"{name}: {function} calls rules defined in another unit: {missing}")
                 elif re.search(r"_part\d+\(", text[m.end():text.index("\n    }\n", m.end())]):
