@@ -736,7 +736,9 @@ RuleFormChoice ruleForm(const ir::Game& game, const SourceOptions& options) {
         return choice;
     }
     CodeWriter rules;
-    emitRules(rules, game, {}, &choice.groupCodeBytes);
+    RuleUnits weighed;
+    weighed.directionSets = false;
+    emitRules(rules, game, weighed, &choice.groupCodeBytes);
     choice.codeBytes = rules.text().size();
     const double megabytes = static_cast<double>(choice.codeBytes) / 1e6;
     if (options.ruleForm == "code") {

@@ -6,6 +6,7 @@
 #include <functional>
 #include <set>
 
+#include "DirectionVariants.h"
 #include "Identifiers.h"
 #include "RuleParts.h"
 #include "ir/IrDump.h"
@@ -114,18 +115,22 @@ RowLayout layoutOf(const Rule& rule, size_t r) {
 // Emits the boards each row needs, computed before anything is applied:
 // rowN (positions where the cells before the first ellipsis match) and, for
 // rows with ellipses, rowN_cI for each later cell.
-void emitRowBoards(CodeWriter& out, const RowLayout& row) {
+// `prefix` goes before the boards' names and the step's (`d`); where
+// `guard` (a condition) is false, the row's board is empty.
+void emitRowBoards(CodeWriter& out, const RowLayout& row, const std::string& prefix = "", const std::string& guard = "") {
     const auto& cells = *row.cells;
     const size_t prefixEnd = row.ellipses.empty() ? cells.size() : row.ellipses[0];
     std::vector<std::string> terms;
     for (size_t i = 0; i < prefixEnd; ++i) {
         std::string b = patternBoard(cells[i]);
-        terms.push_back(i == 0 ? b : fmt::format("shiftBy({}, {} * d)", b, i));
+        terms.push_back(i == 0 ? b : fmt::format("shiftBy({}, {} * {}d)", b, i, prefix));
     }
-    out.line(fmt::format("const Board row{} = {};", row.index, joinWith(terms, " & ")));
+    const std::string board = joinWith(terms, " & ");
+    out.line(fmt::format("const Board {}row{} = {};", prefix, row.index,
+                         guard.empty() ? board : fmt::format("{} ? {} : Board::zero()", guard, board)));
     for (size_t i = prefixEnd; i < cells.size(); ++i) {
         if (cells[i].ellipsis) continue;
-        out.line(fmt::format("const Board row{}_c{} = {};", row.index, i, patternBoard(cells[i])));
+        out.line(fmt::format("const Board {}row{}_c{} = {};", prefix, row.index, i, patternBoard(cells[i])));
     }
 }
 
@@ -194,14 +199,18 @@ std::string recheck(const RowLayout& row) {
 
 // ---- replacements
 
-void emitObjectUpdates(CodeWriter& out, const Game& g, const BitSet& set, const BitSet& clear, const CellFacts* facts) {
-    for (const ObjectUpdate& u : objectUpdates(g, set, clear, facts)) {
+void emitObjectUpdates(CodeWriter& out, const std::vector<ObjectUpdate>& updates) {
+    for (const ObjectUpdate& u : updates) {
         if (u.kind == ObjectUpdate::kPutLayer) {
             out.line(fmt::format("ch |= putLayer{}(e, p, {});", u.layerOrObject, u.keepOrValue));
         } else {
             out.line(fmt::format("ch |= e.obj[{}].assign(p, {});", u.layerOrObject, u.keepOrValue ? "true" : "false"));
         }
     }
+}
+
+void emitObjectUpdates(CodeWriter& out, const Game& g, const BitSet& set, const BitSet& clear, const CellFacts* facts) {
+    emitObjectUpdates(out, objectUpdates(g, set, clear, facts));
 }
 
 void emitMovementUpdates(CodeWriter& out, const Game& g, const ir::Replacement& r, std::optional<int> entityLayer,
@@ -489,6 +498,112 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
     out.line();
 }
 
+// `first == v ? values[v] : ...` over a direction set's copies; the value itself where all are equal.
+std::string chosenValue(const std::vector<std::string>& values) {
+    if (std::all_of(values.begin(), values.end(), [&](const std::string& v) { return v == values[0]; })) return values[0];
+    std::string chosen = values.back();
+    for (size_t v = values.size() - 1; v-- > 0;) chosen = fmt::format("first == {} ? {} : {}", v, values[v], chosen);
+    return "(" + chosen + ")";
+}
+
+// A direction set's function (DirectionVariants): finds the first copy that
+// matches; where it matches once, every thread that found one applies it
+// through one code path, the copy's step, cell offsets and movement bits as
+// values, so that a warp's environments stay together whichever way their
+// inputs went.  The later copies then run as they are, as does the first
+// where it matches more than once (the scan order then matters).  `copies`:
+// the copies' functions.
+void emitDirectionSet(CodeWriter& out, const Game& g, const std::vector<Rule>& rules, const DirectionSet& set,
+                      const std::vector<RuleNames>& copies, const std::string& name, const std::string& kind,
+                      const std::vector<std::string>& messages, bool layersExclusive) {
+    const Rule& lead = rules[set.first];
+    out.line(fmt::format("// line {}: its {} direction copies above, a match of any applied by one code path", lead.line,
+                         set.count));
+    out.open("PSC_DEVICE " + kind + " bool " + name + "(Env& e, Turn& t)");
+    std::vector<std::string> matches;
+    std::vector<std::string> steps;
+    for (size_t v = 0; v < set.count; ++v) {
+        const Rule& copy = rules[set.first + v];
+        const std::string prefix = fmt::format("v{}_", v);
+        out.line(fmt::format("const int {}d = {};", prefix, stepExpr(copy.direction)));
+        steps.push_back(prefix + "d");
+        std::string needs;
+        if (!copies[v].needs.empty()) {
+            needs = prefix + "needs";
+            out.line(fmt::format("const bool {} = PSC_RULE_NEEDS({});", needs, copies[v].needs));
+        }
+        std::vector<std::string> tests;
+        for (size_t r = 0; r < copy.rows.size(); ++r) {
+            emitRowBoards(out, layoutOf(copy, r), prefix, needs);
+            tests.push_back(fmt::format("{}row{}.any()", prefix, r));
+        }
+        matches.push_back(joinWith(tests, " && "));
+    }
+    std::string first = "-1";
+    for (size_t v = set.count; v-- > 0;) first = fmt::format("{} ? {} : {}", matches[v], v, first);
+    out.line("const int first = " + first + ";");
+    out.line("if (first < 0) return false;");
+    out.line("bool changed = false;");
+    std::vector<std::string> once;
+    for (size_t r = 0; r < lead.rows.size(); ++r) {
+        std::vector<std::string> chosen;
+        for (size_t v = 0; v < set.count; ++v) chosen.push_back(fmt::format("onlyIf(v{}_row{}, first == {})", v, r, v));
+        out.line(fmt::format("const Board row{} = {};", r, joinWith(chosen, " | ")));
+        once.push_back(fmt::format("row{}.count() == 1", r));
+    }
+    out.line("const bool once = " + joinWith(once, " && ") + ";");
+    out.open("if (once)");
+    out.line("const int d = " + chosenValue(steps) + ";");
+    for (size_t r = 0; r < lead.rows.size(); ++r) {
+        out.line(fmt::format("const int s{0} = row{0}.lowest();", r));
+        for (size_t j = 0; j < lead.rows[r].size(); ++j) {
+            const CellUpdates leadUpdates = cellUpdates(g, lead, r, j, layersExclusive);
+            if (leadUpdates.objects.empty() && leadUpdates.movements.empty()) continue;
+            std::vector<std::string> offsets;
+            std::vector<CellUpdates> updates;
+            for (size_t v = 0; v < set.count; ++v) {
+                const size_t cell = set.cellOf[v][r][j];
+                offsets.push_back(std::to_string(cell));
+                updates.push_back(cellUpdates(g, rules[set.first + v], r, cell, layersExclusive));
+            }
+            out.open("");
+            out.line(fmt::format("const int p = s{} + d * {};", r, chosenValue(offsets)));
+            out.line("bool ch = false;");
+            emitObjectUpdates(out, leadUpdates.objects);
+            for (size_t m = 0; m < leadUpdates.movements.size(); ++m) {
+                std::vector<std::string> clears;
+                std::vector<std::string> sets;
+                uint32_t touched = 0;
+                for (const CellUpdates& u : updates) {
+                    clears.push_back(fmt::format("{}u", u.movements[m].clear));
+                    sets.push_back(fmt::format("{}u", u.movements[m].set));
+                    touched |= u.movements[m].clear | u.movements[m].set;
+                }
+                const std::string clear = chosenValue(clears);
+                const std::string put = chosenValue(sets);
+                const int layer = leadUpdates.movements[m].layer;
+                if (clear == clears[0] && put == sets[0]) {
+                    out.line(fmt::format("ch |= putMovement(e, p, {}, {}, {});", layer, clear, put));
+                } else {
+                    out.line(fmt::format("ch |= putMovementChosen(e, p, {}, {}, {}, {}u);", layer, clear, put, touched));
+                }
+            }
+            out.line("changed |= ch;");
+            out.close();
+        }
+    }
+    if (const uint32_t commands = commandBits(lead)) out.line(queueStatement(lead, commands, messages));
+    out.close();
+    for (size_t v = 0; v < set.count; ++v) {
+        const std::string call = copies[v].apply + "(e, t)";
+        out.line(fmt::format("if (first < {0} || (first == {0} && !once)) changed |= {1};", v,
+                             copies[v].needs.empty() ? call : "(PSC_RULE_NEEDS(" + copies[v].needs + ") && " + call + ")"));
+    }
+    out.line("return changed;");
+    out.close();
+    out.line();
+}
+
 // A function, or a random rule's two, as code and as declarations: the unit
 // of what goes to one compile unit.
 struct Piece {
@@ -564,6 +679,10 @@ struct GroupLayout {
     bool apart = false;     // rules out of line, the group in place (the memory layout's way)
     size_t partBytes = 0;   // together: a larger group is split into parts of at most this much code
     bool inSpan = false;    // together, inlined into a span that holds the copy: the group works in place
+    // A rule's direction copies as one (emitDirectionSet).  Not in the groups
+    // layout, where kettle's one set stepped 15 % slower: its code took a
+    // compile unit more, a span more (docs/performance.md).
+    bool joinDirections = false;
 };
 
 // A group's pieces: its rules and its function; `inlined` says which pieces
@@ -606,6 +725,33 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
         }
         return joined;
     };
+    // A rule's direction copies go with the function that runs them as one
+    // (emitDirectionSet), which the group calls instead; the last set first,
+    // so that the earlier ones' indices hold.  Copies applied at once are
+    // board operations already, taken by every thread alike.
+    const std::vector<DirectionSet> sets = layout.joinDirections ? directionSets(g, group, layersExclusive) : std::vector<DirectionSet>{};
+    for (auto set = sets.rbegin(); set != sets.rend(); ++set) {
+        const auto copies = group.rules.begin() + static_cast<long>(set->first);
+        if (std::any_of(copies, copies + static_cast<long>(set->count),
+                        [&](const Rule& rule) { return appliesAtOnce(g, rule, layersExclusive).has_value(); })) {
+            continue;
+        }
+        const long from = static_cast<long>(set->first);
+        const long to = from + static_cast<long>(set->count);
+        const std::string setName = uniqueIdentifier(
+            fmt::format("{}rule_L{}_directions", late ? "late_" : "", group.rules[set->first].line), used);
+        CodeWriter code(indent);
+        emitDirectionSet(code, g, group.rules, *set, std::vector<RuleNames>(names.begin() + from, names.begin() + to), setName,
+                         kind, messages, layersExclusive);
+        Piece piece = join(rules.begin() + from, rules.begin() + to);
+        piece.text += code.text();
+        piece.declarations.push_back("PSC_DEVICE " + kind + " bool " + setName + "(Env& e, Turn& t);");
+        bytes += code.text().size();
+        rules.erase(rules.begin() + from, rules.begin() + to);
+        rules.insert(rules.begin() + from, std::move(piece));
+        names.erase(names.begin() + from, names.begin() + to);
+        names.insert(names.begin() + from, RuleNames{setName, "", "", ""});
+    }
     // A copy of the random stream, which rules index at run time, would
     // live in local memory: a group that draws from it works in place.
     const bool inPlace = layout.apart || layout.inSpan || groupUsesRandom(group);
@@ -814,6 +960,7 @@ void emitRules(CodeWriter& out, const Game& game, const RuleUnits& layout, std::
         groupLayout.together = layout.groups;
         groupLayout.apart = layout.groups && number < layout.apart.size() && layout.apart[number];
         groupLayout.partBytes = layout.partBytes;
+        groupLayout.joinDirections = layout.directionSets && !layout.groups;
         const size_t before = pieces.size();
         emitGroup(pieces, inlined, out.indent(), game, group, index, late, groupLayout, used, messages, layersExclusive);
         if (groupBytes) {

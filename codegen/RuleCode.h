@@ -5,7 +5,10 @@
 // movement boards, shifted along the rule's direction), then visits the
 // matches in the reference's scan order, re-checking every match after the
 // first against the current board before applying its replacements.
-// Random groups count their candidate matches, draw one and apply it.
+// Random groups count their candidate matches, draw one and apply it.  A
+// rule's direction copies that write alike also run as one function
+// (DirectionVariants.h), so that a GPU warp applies any one's single match
+// at once.
 // Masks are constants in the code; names come from the source line.
 #pragma once
 
@@ -41,6 +44,10 @@ struct RuleUnits {
     size_t partBytes = 0;
     size_t copyWeight = 1;
     std::vector<bool> apart;
+    // A rule's direction copies also as one function (DirectionVariants.h),
+    // but in the groups layout.  Off where code is weighed for the layout:
+    // the choice does not depend on them.
+    bool directionSets = true;
 };
 
 // Emits rule_* and group_* functions and applyEarlyRules/applyLateRules.

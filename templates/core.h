@@ -341,6 +341,14 @@ PSC_DEVICE PSC_INLINE Board andNot(const Board& a, const Board& b) {
     PSC_UNROLL for (int i = 0; i < kWords; ++i) r.w[i] = a.w[i] & ~b.w[i];
     return r;
 }
+// b where `keep`, else empty, without a branch (a rule's direction copies
+// pick the one that matched, codegen/DirectionVariants.h).
+PSC_DEVICE PSC_INLINE Board onlyIf(const Board& b, bool keep) {
+    const u64 mask = 0ull - static_cast<u64>(keep);
+    Board r;
+    PSC_UNROLL for (int i = 0; i < kWords; ++i) r.w[i] = b.w[i] & mask;
+    return r;
+}
 // Moves bit `from` of b to `to` (when set).
 PSC_DEVICE PSC_INLINE void moveBit(Board& b, int from, int to) {
     const bool held = b.test(from);
@@ -629,6 +637,20 @@ PSC_DEVICE PSC_INLINE bool putMovementWhere(Env& e, const Board& where, int laye
     PSC_UNROLL for (int k = 0; k < 5; ++k) {
         if ((set >> k) & 1u) ch |= e.mov[5 * layer + k].assignWhere(where, true);
         else if ((clear >> k) & 1u) ch |= e.mov[5 * layer + k].assignWhere(where, false);
+    }
+    return ch;
+}
+
+// putMovement with bits chosen at run time (a rule's direction copies as
+// one, codegen/DirectionVariants.h): no branch on them, so that threads that
+// chose different bits stay together.  `touched`: the bits any choice sets
+// or clears (a constant), the only boards written.
+PSC_DEVICE PSC_INLINE bool putMovementChosen(Env& e, int p, int layer, u32 clear, u32 set, u32 touched) {
+    bool ch = false;
+    PSC_UNROLL for (int k = 0; k < 5; ++k) {
+        if (!((touched >> k) & 1u)) continue;
+        Board& b = e.mov[5 * layer + k];
+        ch |= b.assign(p, ((set >> k) & 1u) || (!((clear >> k) & 1u) && b.test(p)));
     }
     return ch;
 }
