@@ -680,8 +680,10 @@ struct GroupLayout {
     size_t partBytes = 0;   // together: a larger group is split into parts of at most this much code
     bool inSpan = false;    // together, inlined into a span that holds the copy: the group works in place
     // A rule's direction copies as one (emitDirectionSet).  Not in the groups
-    // layout, where kettle's one set stepped 15 % slower: its code took a
-    // compile unit more, a span more (docs/performance.md).
+    // layout: kettle, its one game with a set among the benchmark's, stepped
+    // 15 % slower with it, in the same compile units as without: its crates
+    // push in chains of several matches, where the set only adds work
+    // (docs/performance.md).
     bool joinDirections = false;
 };
 
