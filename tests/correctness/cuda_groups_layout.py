@@ -51,6 +51,15 @@ def calls(body_start, source):
     return re.findall(r"any \|= (?:\(PSC_RULE_NEEDS\(.*?\) && )?(\w+)\(e, t\)\)?;", source[body_start:end])
 
 
+def direction_copies(rule, source):
+    """The copies a direction set's function (RuleCode's emitDirectionSet) calls, or [rule] for a rule."""
+    m = re.search(rf"PSC_RULE(?:_APART)? bool {rule}\(Env& e, Turn& t\) \{{", source)
+    if not rule.endswith("_directions") or m is None:
+        return [rule]
+    end = source.index("\n    }\n", m.end())
+    return re.findall(r"changed \|= (?:\(PSC_RULE_NEEDS\(.*?\) && )?(\w+)\(e, t\)\)?;", source[m.end():end])
+
+
 def rules_elsewhere(body_start, text):
     """The rules the group starting at body_start calls that its unit's text does not define."""
     return [r for r in calls(body_start, text) if not re.search(rf"PSC_RULE bool {r}\(Env& e, Turn& t\) \{{", text)]
@@ -160,8 +169,10 @@ def check(psc, game, failures, expect_parts=False):
                     split[function] = calls(m.end(), text)
         if not on_copy:
             failures.append(f"{name}: no group works on a copy")
-    # The memory layout's groups call the same rules in the same order.
-    reference = {m.group(1): calls(m.end(), memory.stdout) for m in GROUP.finditer(memory.stdout)}
+    # The memory layout's groups call the same rules in the same order (a
+    # direction set there, which the groups layout leaves out, by its copies).
+    reference = {m.group(1): [copy for rule in calls(m.end(), memory.stdout) for copy in direction_copies(rule, memory.stdout)]
+                 for m in GROUP.finditer(memory.stdout)}
     bodies = {m.group(1): calls(m.end(), text) for text in units.values() for m in GROUP.finditer(text)}
     for group, parts in split.items():
         flattened = [rule for part in parts for rule in bodies.get(part, ["<missing " + part + ">"])]
