@@ -539,10 +539,59 @@ void emitDirectionSet(CodeWriter& out, const Game& g, const std::vector<Rule>& r
         }
         matches.push_back(joinWith(tests, " && "));
     }
+    // A later copy that needs a board (neededPresence) which is empty before
+    // the write, and which neither the applied copy nor a copy between the
+    // two (which may run before it) sets, cannot match after it: it is not
+    // called (notsnake's three other directions, whose movement boards stay
+    // empty).
+    const int words = presenceWords(g);
+    const int objects = std::max(1, g.objectCount);
+    std::vector<std::vector<uint64_t>> written;  // by copy: the presence bits its writes may set
+    for (size_t v = 0; v < set.count; ++v) {
+        const Rule& copy = rules[set.first + v];
+        std::vector<uint64_t> bits(static_cast<size_t>(words), 0);
+        auto write = [&](int bit) { bits[static_cast<size_t>(bit / 64)] |= uint64_t{1} << (bit % 64); };
+        for (size_t r = 0; r < copy.rows.size(); ++r) {
+            for (size_t i = 0; i < copy.rows[r].size(); ++i) {
+                const CellUpdates u = cellUpdates(g, copy, r, i, layersExclusive);
+                for (const ObjectUpdate& o : u.objects) {
+                    if (o.kind == ObjectUpdate::kAssign && o.keepOrValue) write(o.layerOrObject);
+                    if (o.kind == ObjectUpdate::kPutLayer && o.keepOrValue >= 0) write(o.keepOrValue);
+                }
+                for (const MovementUpdate& m : u.movements) {
+                    for (int k = 0; k < 5; ++k) {
+                        if ((m.set >> k) & 1u) write(objects + 5 * m.layer + k);
+                    }
+                }
+            }
+        }
+        written.push_back(std::move(bits));
+    }
+    std::vector<std::string> live(set.count);
+    for (size_t w = 1; w < set.count; ++w) {
+        const std::vector<uint64_t> needs = neededPresence(g, rules[set.first + w], words);
+        std::vector<std::string> tests;  // by the applied copy, one before w
+        bool any = false;
+        for (size_t v = 0; v < w; ++v) {
+            std::vector<uint64_t> unwritten = needs;
+            for (size_t u = v; u < w; ++u) {
+                for (size_t i = 0; i < unwritten.size(); ++i) unwritten[i] &= ~written[u][i];
+            }
+            const std::string test = presenceTest(g, unwritten);
+            any = any || !test.empty();
+            tests.push_back(test.empty() ? "true" : "(" + test + ")");
+        }
+        if (any) live[w] = chosenValue(tests);
+    }
     std::string first = "-1";
     for (size_t v = set.count; v-- > 0;) first = fmt::format("{} ? {} : {}", matches[v], v, first);
     out.line("const int first = " + first + ";");
     out.line("if (first < 0) return false;");
+    for (size_t w = 1; w < set.count; ++w) {
+        if (live[w].empty()) continue;
+        out.line(fmt::format("const bool v{}_live = {};", w, live[w]));
+        live[w] = fmt::format("v{}_live", w);
+    }
     out.line("bool changed = false;");
     std::vector<std::string> once;
     for (size_t r = 0; r < lead.rows.size(); ++r) {
@@ -596,7 +645,8 @@ void emitDirectionSet(CodeWriter& out, const Game& g, const std::vector<Rule>& r
     out.close();
     for (size_t v = 0; v < set.count; ++v) {
         const std::string call = copies[v].apply + "(e, t)";
-        out.line(fmt::format("if (first < {0} || (first == {0} && !once)) changed |= {1};", v,
+        const std::string later = live[v].empty() ? fmt::format("first < {}", v) : fmt::format("(first < {} && {})", v, live[v]);
+        out.line(fmt::format("if ({} || (first == {} && !once)) changed |= {};", later, v,
                              copies[v].needs.empty() ? call : "(PSC_RULE_NEEDS(" + copies[v].needs + ") && " + call + ")"));
     }
     out.line("return changed;");
