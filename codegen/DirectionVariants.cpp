@@ -1,5 +1,7 @@
 #include "DirectionVariants.h"
 
+#include <algorithm>
+
 namespace psc::codegen {
 namespace {
 
@@ -80,6 +82,27 @@ CellUpdates cellUpdates(const ir::Game& game, const ir::Rule& rule, size_t row, 
     const CellFacts* known = facts ? &*facts : nullptr;
     return {objectUpdates(game, c.replacement->set, c.replacement->clear, known),
             movementUpdates(game, *c.replacement, std::nullopt, known)};
+}
+
+std::vector<uint64_t> setPresence(const ir::Game& game, const ir::Rule& rule, int words, bool layersExclusive) {
+    std::vector<uint64_t> bits(static_cast<size_t>(words), 0);
+    auto set = [&](int bit) { bits[static_cast<size_t>(bit / 64)] |= uint64_t{1} << (bit % 64); };
+    const int objects = std::max(1, game.objectCount);
+    for (size_t r = 0; r < rule.rows.size(); ++r) {
+        for (size_t i = 0; i < rule.rows[r].size(); ++i) {
+            const CellUpdates u = cellUpdates(game, rule, r, i, layersExclusive);
+            for (const ObjectUpdate& o : u.objects) {
+                if (o.kind == ObjectUpdate::kAssign && o.keepOrValue) set(o.layerOrObject);
+                if (o.kind == ObjectUpdate::kPutLayer && o.keepOrValue >= 0) set(o.keepOrValue);
+            }
+            for (const MovementUpdate& m : u.movements) {
+                for (int k = 0; k < 5; ++k) {
+                    if ((m.set >> k) & 1u) set(objects + 5 * m.layer + k);
+                }
+            }
+        }
+    }
+    return bits;
 }
 
 std::vector<DirectionSet> directionSets(const ir::Game& game, const ir::RuleGroup& group, bool layersExclusive) {

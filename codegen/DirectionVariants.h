@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "RuleParts.h"
@@ -44,5 +45,10 @@ struct CellUpdates {
     std::vector<MovementUpdate> movements;
 };
 CellUpdates cellUpdates(const ir::Game& game, const ir::Rule& rule, size_t row, size_t cell, bool layersExclusive);
+
+// The boards a rule's replacements may set bits of, as presence bits
+// (neededPresence's: object ids, then the movement boards; `words` 64-bit
+// words).  A board the rule needs that none of these sets stays as it was.
+std::vector<uint64_t> setPresence(const ir::Game& game, const ir::Rule& rule, int words, bool layersExclusive);
 
 }  // namespace psc::codegen

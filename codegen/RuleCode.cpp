@@ -545,28 +545,8 @@ void emitDirectionSet(CodeWriter& out, const Game& g, const std::vector<Rule>& r
     // called (notsnake's three other directions, whose movement boards stay
     // empty).
     const int words = presenceWords(g);
-    const int objects = std::max(1, g.objectCount);
-    std::vector<std::vector<uint64_t>> written;  // by copy: the presence bits its writes may set
-    for (size_t v = 0; v < set.count; ++v) {
-        const Rule& copy = rules[set.first + v];
-        std::vector<uint64_t> bits(static_cast<size_t>(words), 0);
-        auto write = [&](int bit) { bits[static_cast<size_t>(bit / 64)] |= uint64_t{1} << (bit % 64); };
-        for (size_t r = 0; r < copy.rows.size(); ++r) {
-            for (size_t i = 0; i < copy.rows[r].size(); ++i) {
-                const CellUpdates u = cellUpdates(g, copy, r, i, layersExclusive);
-                for (const ObjectUpdate& o : u.objects) {
-                    if (o.kind == ObjectUpdate::kAssign && o.keepOrValue) write(o.layerOrObject);
-                    if (o.kind == ObjectUpdate::kPutLayer && o.keepOrValue >= 0) write(o.keepOrValue);
-                }
-                for (const MovementUpdate& m : u.movements) {
-                    for (int k = 0; k < 5; ++k) {
-                        if ((m.set >> k) & 1u) write(objects + 5 * m.layer + k);
-                    }
-                }
-            }
-        }
-        written.push_back(std::move(bits));
-    }
+    std::vector<std::vector<uint64_t>> written;  // by copy
+    for (size_t v = 0; v < set.count; ++v) written.push_back(setPresence(g, rules[set.first + v], words, layersExclusive));
     std::vector<std::string> live(set.count);
     for (size_t w = 1; w < set.count; ++w) {
         const std::vector<uint64_t> needs = neededPresence(g, rules[set.first + w], words);

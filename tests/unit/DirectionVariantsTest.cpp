@@ -68,3 +68,26 @@ TEST_CASE("the copies of two rules form two sets", "[codegen]") {
     CHECK(s.sets[1].first == 4);
     CHECK(s.sets[1].count == 4);
 }
+
+TEST_CASE("a rule's set presence names the objects and movements its replacements put", "[codegen]") {
+    // Five objects; the crate's layer is 3, so its movement boards' presence
+    // bits are 5 + 15 + k.
+    const Sets moves = setsOf("[ > Player | No Crate ] -> [ Crate | Player ]\n");
+    const ir::Game& game = *moves.result.game;
+    auto bitOf = [&](const std::string& name) {
+        for (const ir::Object& o : game.objects) {
+            if (o.name == name) return uint64_t{1} << o.id;
+        }
+        return uint64_t{0};
+    };
+    const bool exclusive = codegen::layersHoldOneObject(game);
+    const int words = codegen::presenceWords(game);
+    for (const ir::Rule& copy : game.rules[0].rules) {
+        CHECK(codegen::setPresence(game, copy, words, exclusive)[0] == (bitOf("player") | bitOf("crate")));
+    }
+    // Up (flipped to down, its first copy) pushes the crate up: movement bit 0.
+    const Sets pushes = setsOf("[ > Player | Crate ] -> [ > Player | > Crate ]\n");
+    const ir::Game& pushGame = *pushes.result.game;
+    CHECK(codegen::setPresence(pushGame, pushGame.rules[0].rules[0], codegen::presenceWords(pushGame),
+                               codegen::layersHoldOneObject(pushGame))[0] == (uint64_t{1} << 20));
+}
