@@ -506,13 +506,43 @@ std::string chosenValue(const std::vector<std::string>& values) {
     return "(" + chosen + ")";
 }
 
+// For each copy of a direction set, the condition, evaluated before the
+// applied copy writes, without which it cannot match once that copy and the
+// copies between the two have run: every board it needs (neededPresence)
+// that none of them sets is non-empty.  Empty where there is no such board
+// (the copy runs whenever it comes after the applied one).  Notsnake's other
+// three directions, whose movement boards stay empty, are not called.
+std::vector<std::string> laterCopyConditions(const Game& g, const std::vector<Rule>& rules, const DirectionSet& set,
+                                             bool layersExclusive) {
+    const int words = presenceWords(g);
+    std::vector<std::vector<uint64_t>> written;  // by copy
+    for (size_t v = 0; v < set.count; ++v) written.push_back(setPresence(g, rules[set.first + v], words, layersExclusive));
+    std::vector<std::string> conditions(set.count);
+    for (size_t w = 1; w < set.count; ++w) {
+        const std::vector<uint64_t> needs = neededPresence(g, rules[set.first + w], words);
+        std::vector<std::string> tests;  // by the applied copy, one before w
+        bool any = false;
+        for (size_t v = 0; v < w; ++v) {
+            std::vector<uint64_t> unwritten = needs;
+            for (size_t u = v; u < w; ++u) {
+                for (size_t i = 0; i < unwritten.size(); ++i) unwritten[i] &= ~written[u][i];
+            }
+            const std::string test = presenceTest(g, unwritten);
+            any = any || !test.empty();
+            tests.push_back(test.empty() ? "true" : "(" + test + ")");
+        }
+        if (any) conditions[w] = chosenValue(tests);
+    }
+    return conditions;
+}
+
 // A direction set's function (DirectionVariants): finds the first copy that
 // matches; where it matches once, every thread that found one applies it
 // through one code path, the copy's step, cell offsets and movement bits as
 // values, so that a warp's environments stay together whichever way their
-// inputs went.  The later copies then run as they are, as does the first
-// where it matches more than once (the scan order then matters).  `copies`:
-// the copies' functions.
+// inputs went.  The later copies then run as they are, where they still can
+// match (laterCopyConditions), as does the first where it matches more than
+// once (the scan order then matters).  `copies`: the copies' functions.
 void emitDirectionSet(CodeWriter& out, const Game& g, const std::vector<Rule>& rules, const DirectionSet& set,
                       const std::vector<RuleNames>& copies, const std::string& name, const std::string& kind,
                       const std::vector<std::string>& messages, bool layersExclusive) {
@@ -539,30 +569,7 @@ void emitDirectionSet(CodeWriter& out, const Game& g, const std::vector<Rule>& r
         }
         matches.push_back(joinWith(tests, " && "));
     }
-    // A later copy that needs a board (neededPresence) which is empty before
-    // the write, and which neither the applied copy nor a copy between the
-    // two (which may run before it) sets, cannot match after it: it is not
-    // called (notsnake's three other directions, whose movement boards stay
-    // empty).
-    const int words = presenceWords(g);
-    std::vector<std::vector<uint64_t>> written;  // by copy
-    for (size_t v = 0; v < set.count; ++v) written.push_back(setPresence(g, rules[set.first + v], words, layersExclusive));
-    std::vector<std::string> live(set.count);
-    for (size_t w = 1; w < set.count; ++w) {
-        const std::vector<uint64_t> needs = neededPresence(g, rules[set.first + w], words);
-        std::vector<std::string> tests;  // by the applied copy, one before w
-        bool any = false;
-        for (size_t v = 0; v < w; ++v) {
-            std::vector<uint64_t> unwritten = needs;
-            for (size_t u = v; u < w; ++u) {
-                for (size_t i = 0; i < unwritten.size(); ++i) unwritten[i] &= ~written[u][i];
-            }
-            const std::string test = presenceTest(g, unwritten);
-            any = any || !test.empty();
-            tests.push_back(test.empty() ? "true" : "(" + test + ")");
-        }
-        if (any) live[w] = chosenValue(tests);
-    }
+    std::vector<std::string> live = laterCopyConditions(g, rules, set, layersExclusive);
     std::string first = "-1";
     for (size_t v = set.count; v-- > 0;) first = fmt::format("{} ? {} : {}", matches[v], v, first);
     out.line("const int first = " + first + ";");
@@ -760,7 +767,8 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
     // A rule's direction copies go with the function that runs them as one
     // (emitDirectionSet), which the group calls instead; the last set first,
     // so that the earlier ones' indices hold.  Copies applied at once are
-    // board operations already, taken by every thread alike.
+    // board operations already; as sets they stepped 10-17 % slower
+    // (docs/performance.md, "measured and not taken").
     const std::vector<DirectionSet> sets = layout.joinDirections ? directionSets(g, group, layersExclusive) : std::vector<DirectionSet>{};
     for (auto set = sets.rbegin(); set != sets.rend(); ++set) {
         const auto copies = group.rules.begin() + static_cast<long>(set->first);
