@@ -45,8 +45,8 @@ struct RuleUnits {
     size_t copyWeight = 1;
     std::vector<bool> apart;
     // A rule's direction copies also as one function (DirectionVariants.h),
-    // but in the groups layout.  Off where code is weighed for the layout:
-    // the choice does not depend on them.
+    // except in the groups layout.  Off where code is weighed for the
+    // layout: the choice does not depend on them.
     bool directionSets = true;
 };
 

@@ -74,12 +74,7 @@ TEST_CASE("a rule's set presence names the objects and movements its replacement
     // bits are 5 + 15 + k.
     const Sets moves = setsOf("[ > Player | No Crate ] -> [ Crate | Player ]\n");
     const ir::Game& game = *moves.result.game;
-    auto bitOf = [&](const std::string& name) {
-        for (const ir::Object& o : game.objects) {
-            if (o.name == name) return uint64_t{1} << o.id;
-        }
-        return uint64_t{0};
-    };
+    auto bitOf = [&](const std::string& name) { return uint64_t{1} << test::objectId(game, name); };
     const bool exclusive = codegen::layersHoldOneObject(game);
     const int words = codegen::presenceWords(game);
     for (const ir::Rule& copy : game.rules[0].rules) {

@@ -65,14 +65,6 @@ FirstCell firstCellOf(const std::string& rules, CompileStatus expected = Compile
     return f;
 }
 
-int objectId(const ir::Game& g, const std::string& name) {
-    for (const auto& o : g.objects) {
-        if (o.name == name && !o.ghost) return o.id;
-    }
-    FAIL("no object " << name);
-    return -1;
-}
-
 // The first cell's one movement write without and with what its pattern says.
 std::pair<codegen::MovementUpdate, codegen::MovementUpdate> movementWritesOf(const std::string& rules) {
     FirstCell f = firstCellOf(rules);
@@ -106,9 +98,9 @@ TEST_CASE("a replacement leaves out the writes its cell's pattern makes no-ops",
         const std::vector<codegen::ObjectUpdate> updates = codegen::objectUpdates(g, r.set, r.clear, &facts);
         REQUIRE(updates.size() == 2);
         CHECK(updates[0].kind == codegen::ObjectUpdate::kAssign);
-        CHECK(updates[0].layerOrObject == objectId(g, "crate"));
+        CHECK(updates[0].layerOrObject == test::objectId(g, "crate"));
         CHECK(updates[0].keepOrValue == 0);
-        CHECK(updates[1].layerOrObject == objectId(g, "wall"));
+        CHECK(updates[1].layerOrObject == test::objectId(g, "wall"));
         CHECK(updates[1].keepOrValue == 1);
     }
     SECTION("a layer that holds only what its replacement puts there is not written") {
@@ -125,8 +117,8 @@ TEST_CASE("a replacement leaves out the writes its cell's pattern makes no-ops",
         const ir::Replacement& r = *f.cell().replacement;
         const codegen::CellFacts facts = codegen::cellFacts(g, f.cell());
         for (const auto& u : codegen::objectUpdates(g, r.set, r.clear, &facts)) {
-            CHECK(u.layerOrObject != objectId(g, "crate"));
-            CHECK(u.layerOrObject != objectId(g, "wall"));
+            CHECK(u.layerOrObject != test::objectId(g, "crate"));
+            CHECK(u.layerOrObject != test::objectId(g, "wall"));
         }
     }
     SECTION("a movement the pattern requires is not set again, nor its layer's other directions cleared") {

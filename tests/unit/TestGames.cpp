@@ -1,5 +1,7 @@
 #include "TestGames.h"
 
+#include <catch2/catch.hpp>
+
 namespace psc::test {
 
 std::string gameText(const GameParts& p) {
@@ -9,5 +11,13 @@ std::string gameText(const GameParts& p) {
 }
 
 CompileResult compileParts(const GameParts& parts) { return compileSource(gameText(parts)); }
+
+int objectId(const ir::Game& game, const std::string& name) {
+    for (const auto& o : game.objects) {
+        if (o.name == name && !o.ghost) return o.id;
+    }
+    FAIL("no object " << name);
+    return -1;
+}
 
 }  // namespace psc::test

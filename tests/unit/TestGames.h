@@ -21,5 +21,7 @@ struct GameParts {
 
 std::string gameText(const GameParts& parts);
 CompileResult compileParts(const GameParts& parts);
+// The id of the (live) object named `name`; fails the test where there is none.
+int objectId(const ir::Game& game, const std::string& name);
 
 }  // namespace psc::test
