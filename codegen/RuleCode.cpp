@@ -315,9 +315,10 @@ struct WriterCell {
 // each position of its row's matches is then written once (a second match
 // through the same position would rewrite what the first wrote, so skipping
 // it changes nothing), and where a write lands on another match's cell, of
-// any row, it must change nothing that cell tests, so every match still
-// stands after the others.  Random draws and rigid claims depend on the
-// order: not those.
+// any row, that cell must still match after it, so every match still stands
+// after the others (the matches a write makes are not among those found,
+// and wait for the rule's next pass, as in the reference).  Random draws and
+// rigid claims depend on the order: not those.
 std::optional<WriterCell> appliesAtOnce(const Game& g, const Rule& rule, bool layersExclusive) {
     if (rule.rigid || hasEllipsis(rule)) return std::nullopt;
     std::optional<WriterCell> writer;
@@ -334,7 +335,7 @@ std::optional<WriterCell> appliesAtOnce(const Game& g, const Rule& rule, bool la
     const ir::Replacement& w = *writerCell.replacement;
     if (w.randomEntity.any() || w.randomDirMask.any()) return std::nullopt;
     const std::optional<CellFacts> facts = knownFacts(g, rule, writer->row, writerCell, layersExclusive);
-    const ReplacementWrites written = writesOf(w, facts ? &*facts : nullptr);
+    const ReplacementEffect effect = effectOf(w, facts ? &*facts : nullptr);
     for (size_t r = 0; r < rule.rows.size(); ++r) {
         for (size_t j = 0; j < rule.rows[r].size(); ++j) {
             if (r == writer->row && j == writer->cell) continue;
@@ -342,11 +343,7 @@ std::optional<WriterCell> appliesAtOnce(const Game& g, const Rule& rule, bool la
             // A match whose cell lies where another match writes was found
             // with both patterns holding there: never where they exclude.
             if (layersExclusive && cellsExclude(g, writerCell, c)) continue;
-            bool reads = written.objects.intersects(c.present) || written.objects.intersects(c.missing) ||
-                         written.movements.intersects(c.movementsPresent) ||
-                         written.movements.intersects(c.movementsMissing);
-            for (const BitSet& any : c.anyOf) reads = reads || written.objects.intersects(any);
-            if (reads) return std::nullopt;
+            if (!stillMatchesAfter(c, effect)) return std::nullopt;
         }
     }
     return writer;

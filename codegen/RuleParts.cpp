@@ -77,8 +77,11 @@ bool cellFactsHold(const ir::Game& g, const ir::Rule& rule, size_t row, const ir
             if (!earlier.replacement || cellsExclude(g, earlier, cell)) continue;
             const ir::Replacement& w = *earlier.replacement;
             if (w.randomEntity.any() || w.randomDirMask.any()) return false;
-            const ReplacementWrites written = writesOf(w);
-            if (written.objects.intersects(objectsRead) || written.movements.intersects(movementsRead)) return false;
+            const ReplacementEffect effect = effectOf(w);
+            if (effect.objectsSet.intersects(objectsRead) || effect.objectsCleared.intersects(objectsRead) ||
+                effect.movementsSet.intersects(movementsRead) || effect.movementsCleared.intersects(movementsRead)) {
+                return false;
+            }
         }
     }
     return true;
@@ -90,18 +93,27 @@ std::optional<CellFacts> knownFacts(const ir::Game& g, const ir::Rule& rule, siz
     return cellFacts(g, cell);
 }
 
-ReplacementWrites writesOf(const ir::Replacement& r, const CellFacts* facts) {
-    ReplacementWrites w{r.set, r.movementsSet};
-    BitSet cleared = r.clear;
+ReplacementEffect effectOf(const ir::Replacement& r, const CellFacts* facts) {
+    ReplacementEffect e{r.set, r.clear, r.movementsSet, r.movementsClear};
     if (facts) {
-        w.objects.clear(facts->present);
-        cleared &= facts->possible;
-        cleared.clear(r.set);
+        e.objectsSet.clear(facts->present);
+        e.objectsCleared &= facts->possible;
     }
-    w.objects |= cleared;
-    w.movements |= r.movementsClear;
-    w.movements |= r.movementsLayerMask;
-    return w;
+    e.objectsCleared.clear(r.set);
+    e.movementsCleared |= r.movementsLayerMask;
+    e.movementsCleared.clear(r.movementsSet);
+    return e;
+}
+
+bool stillMatchesAfter(const ir::CellPattern& c, const ReplacementEffect& effect) {
+    if (effect.objectsSet.intersects(c.missing) || effect.objectsCleared.intersects(c.present) ||
+        effect.movementsSet.intersects(c.movementsMissing) || effect.movementsCleared.intersects(c.movementsPresent)) {
+        return false;
+    }
+    for (const BitSet& any : c.anyOf) {
+        if (effect.objectsCleared.intersects(any) && !effect.objectsSet.intersects(any)) return false;
+    }
+    return true;
 }
 
 std::vector<ObjectUpdate> objectUpdates(const ir::Game& g, const BitSet& set, const BitSet& clearAsked,
@@ -172,6 +184,18 @@ uint64_t movingLayerBits(const ir::Game& g) {
     });
     if (g.layerCount > 64) bits = ~0ull;
     return bits;
+}
+
+bool soundReadsCanReload(const ir::Game& g) {
+    const uint64_t moving = movingLayerBits(g);
+    int movingLayers = 0;
+    size_t reads = 0;
+    for (int L = 0; L < g.layerCount; ++L) {
+        if (L < 64 && !((moving >> L) & 1)) continue;
+        ++movingLayers;
+        if (static_cast<size_t>(L) < g.sounds.move.size()) reads += g.sounds.move[static_cast<size_t>(L)].size();
+    }
+    return movingLayers >= 2 && reads >= 3;
 }
 
 int rigidGroupClaim(const ir::Game& g, const ir::Rule& rule) {

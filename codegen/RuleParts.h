@@ -57,14 +57,23 @@ bool layersHoldOneObject(const ir::Game& game);
 std::optional<CellFacts> knownFacts(const ir::Game& game, const ir::Rule& rule, size_t row, const ir::CellPattern& cell,
                                     bool layersExclusive);
 
-// What a replacement may write: objects, and movement bits (5 a layer).
-// With `facts`, only objects it can change (as objectUpdates leaves out the
-// others): not one the cell cannot hold cleared, nor one it holds set.
-struct ReplacementWrites {
-    BitSet objects;
-    BitSet movements;
+// The bits a replacement sets and those it clears (a bit both cleared and
+// set ends set); with `facts`, only objects it can change (as objectUpdates
+// leaves out the others): not one the cell holds set again, nor one it
+// cannot hold cleared.  Movements cleared include the layer
+// fields the replacement clears whole.
+struct ReplacementEffect {
+    BitSet objectsSet;
+    BitSet objectsCleared;
+    BitSet movementsSet;
+    BitSet movementsCleared;
 };
-ReplacementWrites writesOf(const ir::Replacement& r, const CellFacts* facts = nullptr);
+ReplacementEffect effectOf(const ir::Replacement& r, const CellFacts* facts = nullptr);
+// Whether cell pattern `c`, matched at a position, still matches there after
+// a replacement with `effect` writes it: nothing it rules out is set, nothing
+// it requires is cleared, and each of its any-of sets keeps a member or gains
+// one.
+bool stillMatchesAfter(const ir::CellPattern& c, const ReplacementEffect& effect);
 
 // Layers cleared whole come first (in layer order), then single objects
 // cleared, then set.  With `facts`, updates that cannot change the cell are
@@ -108,6 +117,13 @@ void forEachReplacingCell(const ir::Game& game, F f) {
 // layers' movement boards stay empty, so movement resolution skips them
 // (templates/movement.h).  Past 64 layers, every layer counts as moving.
 uint64_t movingLayerBits(const ir::Game& game);
+
+// Whether a cell's movement-sound reads can reach three while it moves two
+// layers, which makes the reference reload the cell's movements mid-way
+// (templates/movement.h): at least two moving layers and three
+// movement-sound declarations on them.  Where it cannot, movement can be
+// resolved over whole boards.
+bool soundReadsCanReload(const ir::Game& game);
 
 // A rigid rule's claim on the layers its replacement moves: the rigid
 // group's index + 1 (0: the rule claims nothing) and those layers.

@@ -186,3 +186,29 @@ TEST_CASE("cells exclude each other where one requires what the other rules out"
     CHECK_FALSE(codegen::cellsExclude(g, cells[2], cells[6]));  // a crate may lie on a target
     CHECK_FALSE(codegen::cellsExclude(g, cells[0], cells[2]));  // layers of their own: both may be there
 }
+
+TEST_CASE("a cell still matches after a write that sets nothing it rules out and clears nothing it needs", "[codegen]") {
+    // Rule `rules`'s first cell writes; does its second cell, had it lain there, still match?
+    auto secondStillMatches = [](const std::string& rules) {
+        CompileResult r = test::compileParts(ownLayers(rules));
+        INFO(rules);
+        REQUIRE(r.status == CompileStatus::Ok);
+        const ir::Game& g = *r.game;
+        const std::vector<ir::CellPattern>& cells = g.rules[0].rules[0].rows[0];
+        REQUIRE(cells.size() == 2);
+        const codegen::CellFacts facts = codegen::cellFacts(g, cells[0]);
+        return codegen::stillMatchesAfter(cells[1], codegen::effectOf(*cells[0].replacement, &facts));
+    };
+    // Pushing a chain: the write gives the next crate the movement it needs.
+    CHECK(secondStillMatches("down [ Crate | up Crate ] -> [ up Crate | up Crate ]\n"));
+    // Another direction clears the one the other cell needs.
+    CHECK_FALSE(secondStillMatches("down [ Crate | up Crate ] -> [ down Crate | up Crate ]\n"));
+    // A movement where the other cell wants its crate still.
+    CHECK_FALSE(secondStillMatches("down [ Crate | stationary Crate ] -> [ up Crate | stationary Crate ]\n"));
+    // Removing the crate the other cell needs; putting one where it must have none.
+    CHECK_FALSE(secondStillMatches("down [ Crate | Crate ] -> [ | Crate ]\n"));
+    CHECK_FALSE(secondStillMatches("down [ Target | no Crate ] -> [ Target Crate | no Crate ]\n"));
+    // A target on a target's cell, or a crate cleared where none may be, changes nothing it tests.
+    CHECK(secondStillMatches("down [ Crate | Target ] -> [ Crate Target | Target ]\n"));
+    CHECK(secondStillMatches("down [ Crate | no Crate ] -> [ | no Crate ]\n"));
+}
