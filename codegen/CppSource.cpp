@@ -218,6 +218,8 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
                          lateRandomDirections(g)));
     out.line(fmt::format("constexpr unsigned long long kMovingLayerBits = 0x{:x}ull;  // layers that can move (movingLayerBits)",
                          movingLayerBits(g)));
+    out.line(fmt::format("constexpr bool kSoundReadsCanReload = {};  // a cell's movement sounds can reload its movements",
+                         soundReadsCanReload(g)));
     out.line(fmt::format("constexpr bool kHasCheckpoint = {};  // a rule can move the restart target",
                          hasCommand(g, "checkpoint")));
     out.line(fmt::format("constexpr bool kHasRestartCommand = {};  // a rule can queue `restart`", hasCommand(g, "restart")));
@@ -259,6 +261,20 @@ void emitLayerMoves(CodeWriter& out, const Game& g) {
         for (int id : g.layerMasks[L].bits()) body += fmt::format("moveBit(e.obj[{}], from, to); ", id);
         return body.empty() ? std::string() : body + "break;";
     });
+    layerSwitch("PSC_DEVICE PSC_INLINE Board layerCells(const Env& e, int layer)", "return Board::zero();", [&](size_t L) {
+        std::vector<std::string> boards;
+        for (int id : g.layerMasks[L].bits()) boards.push_back(fmt::format("e.obj[{}]", id));
+        return boards.empty() ? std::string() : "return " + join(boards, " | ") + ";";
+    });
+    layerSwitch("PSC_DEVICE PSC_INLINE void moveLayerWhere(Env& e, int layer, const Board (&moved)[4], const Board& leaving, "
+                "const int (&steps)[4])",
+                "", [&](size_t L) {
+                    std::string body;
+                    for (int id : g.layerMasks[L].bits()) {
+                        body += fmt::format("moveObjectWhere(e.obj[{}], moved, leaving, steps); ", id);
+                    }
+                    return body.empty() ? std::string() : body + "break;";
+                });
     out.line();
 }
 

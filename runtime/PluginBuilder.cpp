@@ -103,6 +103,9 @@ PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options,
     if (compiler_.empty()) compiler_ = std::getenv("CXX") && *std::getenv("CXX") ? std::getenv("CXX") : "c++";
     flags_ = "-std=c++17 " + options.optimization + " -fPIC -pthread -w -fvisibility=hidden";
     if (options.native) flags_ += " -march=native";
+    // As PSC_NVRTC_OPTIONS for NVRTC: to measure a flag, or to build code
+    // paths the GPU takes (-DPSC_MOVE_OVER_BOARDS=1) for tests on the CPU.
+    if (const char* extra = std::getenv("PSC_CXX_OPTIONS"); extra && *extra) flags_ += std::string(" ") + extra;
     const int units = std::max(1, options.units);
     dir_ = options.cacheDir.empty() ? defaultCacheDir() : options.cacheDir;
     host_ = options.hostLibrary.empty() ? (fs::path(pscLibraryDir()) / kPluginHostFile).string() : options.hostLibrary;

@@ -388,8 +388,18 @@ PSC_DEVICE PSC_INLINE Board shiftUp(const Board& b, int n) {
     }
     return r;
 }
-// Cells d positions apart in a row of a rule: d = +-1 (vertical) or +-(H+1).
+// Cells d positions apart in a row of a rule, d = +-1 (vertical) or +-(H+1):
+// bit p of the result is bit p + d of b.
 PSC_DEVICE PSC_INLINE Board shiftBy(const Board& b, int d) { return d >= 0 ? shiftDown(b, d) : shiftUp(b, -d); }
+
+// The bits of `b` at `moved[k]` go one step along `steps[k]`; `leaving` is
+// the union of `moved` (most objects of a moving layer are not among them).
+PSC_DEVICE PSC_INLINE void moveObjectWhere(Board& b, const Board (&moved)[4], const Board& leaving, const int (&steps)[4]) {
+    if (!(b & leaving).any()) return;
+    Board arriving = Board::zero();
+    PSC_UNROLL for (int k = 0; k < 4; ++k) arriving = arriving | shiftBy(b & moved[k], -steps[k]);
+    b = andNot(b, leaving) | arriving;
+}
 
 // The RC4-based generator of the reference engine, seeded from a string.
 struct Rng {

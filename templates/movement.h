@@ -1,19 +1,21 @@
 // ---- psc template: movement resolution ------------------------------------
 // Moves objects as their layers' movements say, cell by cell in the
 // reference's index order and layer by layer, repeating until a pass moves
-// nothing; then checks rigid claims against the movements left over and
+// nothing (or, on the GPU where that gives the same, over whole boards at
+// once); then checks rigid claims against the movements left over and
 // clears all movements.  Returns true when a rigid group was newly banned
 // (the turn then starts over).  (Reference: engine.js resolveMovements,
 // repositionEntitiesAtCell, repositionEntitiesOnLayer.)
 
 namespace psc_game {
 
-// layerOccupied, soundReads and moveLayerObjects are generated per game
-// (constant object ids per layer).  soundReads counts the movement-sound
-// declarations of a layer that name an object present in the cell: the
-// reference re-reads the cell's movements once per such declaration into a
-// ring of three buffers, so every third read reloads the movement being
-// resolved (see docs/architecture.md, "engine quirks").
+// layerOccupied, soundReads, moveLayerObjects, layerCells and moveLayerWhere
+// are generated per game (constant object ids per layer), as is
+// kSoundReadsCanReload.  soundReads counts the movement-sound declarations of
+// a layer that name an object present in the cell: the reference re-reads
+// the cell's movements once per such declaration into a ring of three
+// buffers, so every third read reloads the movement being resolved (see
+// docs/architecture.md, "engine quirks").
 
 // Tries to move layer `layer` of the cell at p by `field` (one direction bit);
 // adds the sound reads it makes to *reads.
@@ -85,8 +87,77 @@ PSC_DEVICE PSC_INLINE Board movingCells(const Env& e) {
     return any;
 }
 
+// Movement resolved over whole boards, where that gives what the passes cell
+// by cell give: each moving cell of a layer moves one way (or acts), no two
+// target the same cell of their layer, and no cell moves two layers when
+// sound reads could reload a cell's movements.  Each layer's moving cells
+// then form chains, and a cell is freed only by its occupant moving on, so
+// the passes move a chain whole when its head's target is empty and leave it
+// whole otherwise; a cycle stays.  Returns false, having changed nothing,
+// where it does not apply.
+PSC_DEVICE PSC_INLINE bool resolveMovementsAtOnce(Env& e) {
+    // Its dozen boards on the thread's stack: not for levels of thousands of
+    // cells, whose boards already fill it (tests/correctness/cuda_large_levels.py).
+    if constexpr (kWords > 32) {
+        return false;
+    } else {
+        const int column = columnOf(e);
+        const int steps[4] = {-1, 1, -column, column};  // up, down, left, right
+        Board movingLayers = Board::zero();
+        Board twoLayers = Board::zero();
+        PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
+            if (!layerCanMove(L)) continue;
+            Board seen = Board::zero();
+            Board twice = Board::zero();
+            Board targets = Board::zero();
+            PSC_UNROLL for (int k = 0; k < 5; ++k) {
+                const Board m = e.mov[5 * L + k];
+                twice = twice | (seen & m);
+                seen = seen | m;
+                if (k == 4) break;
+                const Board target = shiftBy(m, -steps[k]) & e.inside;
+                twice = twice | (targets & target);
+                targets = targets | target;
+            }
+            if (twice.any()) return false;
+            twoLayers = twoLayers | (movingLayers & seen);
+            movingLayers = movingLayers | seen;
+        }
+        if (kSoundReadsCanReload && twoLayers.any()) return false;
+        PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
+            if (!layerCanMove(L)) continue;
+            Board moved[4] = {Board::zero(), Board::zero(), Board::zero(), Board::zero()};
+            Board open = andNot(e.inside, layerCells(e, L));
+            for (bool grew = true; grew;) {
+                grew = false;
+                PSC_UNROLL for (int k = 0; k < 4; ++k) {
+                    const Board m = e.mov[5 * L + k] & shiftBy(open, steps[k]);
+                    if (m == moved[k]) continue;
+                    moved[k] = m;
+                    open = open | m;
+                    grew = true;
+                }
+            }
+            moveLayerWhere(e, L, moved, moved[0] | moved[1] | moved[2] | moved[3], steps);
+            PSC_UNROLL for (int k = 0; k < 4; ++k) e.mov[5 * L + k] = andNot(e.mov[5 * L + k], moved[k]);
+            e.mov[5 * L + 4] = Board::zero();
+        }
+        return true;
+    }
+}
+
 PSC_DEVICE PSC_INLINE bool resolveMovements(Env& e, Turn& t) {
+    // On the GPU the boards' straight-line code keeps a warp's environments
+    // together where the passes cell by cell part them (kettle 3.9x, blocks
+    // 6.1x, zenpuzzle 1.6x on one H200; slidings 0.91x), even for a lone
+    // moving cell.  One CPU thread has no warp to keep: there the passes
+    // cost less (kettle's CPU steps fell by 43 % over boards).  Tests build
+    // the boards' way on the CPU with -DPSC_MOVE_OVER_BOARDS=1.
+#if defined(__CUDA_ARCH__) || PSC_MOVE_OVER_BOARDS
+    bool moved = !resolveMovementsAtOnce(e);
+#else
     bool moved = true;
+#endif
     while (moved) {
         moved = false;
         const Board cells = movingCells(e);
