@@ -124,6 +124,7 @@ PSC_DEVICE PSC_INLINE bool resolveMovementsAtOnce(Env& e) {
             movingLayers = movingLayers | seen;
         }
         if (kSoundReadsCanReload && twoLayers.any()) return false;
+        if (!movingLayers.any()) return true;  // rules stopped every movement (slidings' turns)
         PSC_UNROLL_STATE for (int L = 0; L < kLayers; ++L) {
             if (!layerCanMove(L)) continue;
             Board moved[4] = {Board::zero(), Board::zero(), Board::zero(), Board::zero()};
