@@ -48,6 +48,23 @@ TEST_CASE("a player on several layers moves all of them", "[codegen]") {
     CHECK(movingLayersOf(p) == 0b1100);
 }
 
+TEST_CASE("sound reads can reload a cell's movements with two moving layers and three move sounds", "[codegen]") {
+    auto canReload = [](const std::string& rules, const std::string& sounds) {
+        GameParts p = ownLayers(rules);
+        p.sounds = sounds;
+        CompileResult r = test::compileParts(p);
+        INFO(test::gameText(p));
+        REQUIRE(r.status == CompileStatus::Ok);
+        return codegen::soundReadsCanReload(*r.game);
+    };
+    const std::string push = "[ > Player | Crate ] -> [ > Player | > Crate ]\n";
+    const std::string three = "Player move 1234\nCrate move 5678\nCrate move up 999\n";
+    CHECK(canReload(push, three));
+    CHECK_FALSE(canReload(push, "Player move 1234\nCrate move 5678\n"));
+    // Only the player's layer moves: its reads never restore another layer's.
+    CHECK_FALSE(canReload("", three));
+}
+
 namespace {
 
 // The first rule's first cell, and the game it belongs to (kept alive by the result).
