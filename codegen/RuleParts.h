@@ -60,8 +60,8 @@ std::optional<CellFacts> knownFacts(const ir::Game& game, const ir::Rule& rule, 
 // The bits a replacement sets and those it clears (a bit both cleared and
 // set ends set); with `facts`, only objects it can change (as objectUpdates
 // leaves out the others): not one the cell holds set again, nor one it
-// cannot hold cleared.  Movements cleared include the layer
-// fields the replacement clears whole.
+// cannot hold cleared.  Movements cleared include the layer fields the
+// replacement clears whole.
 struct ReplacementEffect {
     BitSet objectsSet;
     BitSet objectsCleared;

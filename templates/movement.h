@@ -150,7 +150,7 @@ PSC_DEVICE PSC_INLINE bool resolveMovementsAtOnce(Env& e) {
 PSC_DEVICE PSC_INLINE bool resolveMovements(Env& e, Turn& t) {
     // On the GPU the boards' straight-line code keeps a warp's environments
     // together where the passes cell by cell part them (kettle 3.9x, blocks
-    // 6.1x, zenpuzzle 1.6x on one H200; slidings 0.91x), even for a lone
+    // 6.1x, zenpuzzle 1.6x on one H200; slidings 0.98x), even for a lone
     // moving cell.  One CPU thread has no warp to keep: there the passes
     // cost less (kettle's CPU steps fell by 43 % over boards).  Tests build
     // the boards' way on the CPU with -DPSC_MOVE_OVER_BOARDS=1.
