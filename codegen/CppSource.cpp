@@ -264,9 +264,8 @@ void emitLayerMoves(CodeWriter& out, const Game& g) {
     // Only the moving layers' cases: the others are never asked for, and
     // NVRTC's optimizer takes time over each case before it drops it.
     const uint64_t moving = movingLayerBits(g);
-    auto moves = [&](size_t L) { return L >= 64 || ((moving >> L) & 1); };
     layerSwitch("PSC_DEVICE PSC_INLINE Board layerCells(const Env& e, int layer)", "return Board::zero();", [&](size_t L) {
-        if (!moves(L)) return std::string();
+        if (!layerCanMove(moving, L)) return std::string();
         std::vector<std::string> boards;
         for (int id : g.layerMasks[L].bits()) boards.push_back(fmt::format("e.obj[{}]", id));
         return boards.empty() ? std::string() : "return " + join(boards, " | ") + ";";
@@ -274,7 +273,7 @@ void emitLayerMoves(CodeWriter& out, const Game& g) {
     layerSwitch("PSC_DEVICE PSC_INLINE void moveLayerWhere(Env& e, int layer, const Board (&moved)[4], const Board& leaving, "
                 "const int (&steps)[4])",
                 "", [&](size_t L) {
-                    if (!moves(L)) return std::string();
+                    if (!layerCanMove(moving, L)) return std::string();
                     std::string body;
                     for (int id : g.layerMasks[L].bits()) {
                         body += fmt::format("moveObjectWhere(e.obj[{}], moved, leaving, steps); ", id);

@@ -190,10 +190,10 @@ bool soundReadsCanReload(const ir::Game& g) {
     const uint64_t moving = movingLayerBits(g);
     int movingLayers = 0;
     size_t reads = 0;
-    for (int L = 0; L < g.layerCount; ++L) {
-        if (L < 64 && !((moving >> L) & 1)) continue;
+    for (size_t L = 0; L < static_cast<size_t>(g.layerCount); ++L) {
+        if (!layerCanMove(moving, L)) continue;
         ++movingLayers;
-        if (static_cast<size_t>(L) < g.sounds.move.size()) reads += g.sounds.move[static_cast<size_t>(L)].size();
+        if (L < g.sounds.move.size()) reads += g.sounds.move[L].size();
     }
     return movingLayers >= 2 && reads >= 3;
 }

@@ -117,6 +117,9 @@ void forEachReplacingCell(const ir::Game& game, F f) {
 // layers' movement boards stay empty, so movement resolution skips them
 // (templates/movement.h).  Past 64 layers, every layer counts as moving.
 uint64_t movingLayerBits(const ir::Game& game);
+// Whether layer `layer` can move, given movingLayerBits (as the generated
+// code's layerCanMove: every layer past the 64th counts as moving).
+inline bool layerCanMove(uint64_t movingBits, size_t layer) { return layer >= 64 || ((movingBits >> layer) & 1); }
 
 // Whether a cell's movement-sound reads can reach three while it moves two
 // layers, which makes the reference reload the cell's movements mid-way
