@@ -113,10 +113,22 @@ int runReplay(const ReplayOptions& options) {
         double stepSeconds = 0, readSeconds = 0;
         auto lastProgress = Clock::now();
         std::vector<uint64_t> key(plugin->info().state_key_bytes / 8);
+        // The template of a key is the key's entry started afresh, as search's
+        // is; but after a win the reference can show the won level's board on
+        // the message entry that follows it, a board no fresh start of that
+        // entry holds.  There the template is environment 1 as it stands: it
+        // took the same inputs since it last gave back environment 0's state.
         auto keyGivesBack = [&](const json& actual) {
             const int32_t env = 0;
+            const int entry = actual.at("level").get<int>();
+            const psc_game_info& info = plugin->info();
+            const bool boardOfEarlierLevel = entry >= 0 && entry < info.entry_count && info.entry_is_message[entry];
             batch.check(plugin->encodeStates(batch.get(), &env, 1, key.data(), nullptr), "encoding the state");
-            batch.check(plugin->resetEntry(batch.get(), 1, actual.at("level").get<int>(), seed.c_str()), "starting the template");
+            if (!boardOfEarlierLevel) {
+                batch.check(plugin->resetEntry(batch.get(), 1, entry, seed.c_str()), "starting the template");
+            } else if (json::parse(batch.dump(1)).at("level") != entry) {
+                return false;
+            }
             batch.check(plugin->decodeState(batch.get(), 1, key.data()), "decoding the state");
             return json::parse(batch.dump(1)) == actual;
         };
@@ -146,7 +158,7 @@ int runReplay(const ReplayOptions& options) {
                 fmt::print(stderr, "{}: error: unknown input {}\n", options.casePath, inputs[i].dump());
                 return 2;
             }
-            // With --check-keys environment 1 is the keys' template, reset before each use: it steps along unseen.
+            // With --check-keys environment 1 is the keys' template (keyGivesBack): it steps along unseen.
             const int32_t a[2] = {action, action};
             const auto start = Clock::now();
             batch.check(plugin->step(batch.get(), a, nullptr), "stepping");
