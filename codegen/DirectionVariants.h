@@ -5,12 +5,12 @@
 // (up and left flipped to down and right, their rows' cells reversed).  On a
 // GPU, the environments of a warp whose inputs went different ways match
 // different copies, and the warp runs the copies' replacements one after
-// another with a few threads each (docs/performance.md, "where the lanes
-// go").  Where consecutive copies of one source rule write the same objects
-// at corresponding cells and differ only in the step between cells, the
-// order of a row's cells and the movement bits they write, a single match of
-// any copy can be applied by one code path that takes the copy's step, cell
-// offsets and bits as values (RuleCode's emitDirectionSet).
+// another with a few threads each (docs/performance.md, "which code runs
+// with few threads").  Where consecutive copies of one source rule write the
+// same objects at corresponding cells and differ only in the step between
+// cells, the order of a row's cells and the movement bits they write, a
+// single match of any copy can be applied by one code path that takes the
+// copy's step, cell offsets and bits as values (RuleCode's emitDirectionSet).
 #pragma once
 
 #include <cstddef>
