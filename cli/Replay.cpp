@@ -126,10 +126,11 @@ int runReplay(const ReplayOptions& options) {
             batch.check(plugin->encodeStates(batch.get(), &env, 1, key.data(), nullptr), "encoding the state");
             if (!boardOfEarlierLevel) {
                 batch.check(plugin->resetEntry(batch.get(), 1, entry, seed.c_str()), "starting the template");
-            } else if (json::parse(batch.dump(1)).at("level") != entry) {
-                return false;
             }
-            batch.check(plugin->decodeState(batch.get(), 1, key.data()), "decoding the state");
+            const int decoded = plugin->decodeState(batch.get(), 1, key.data());
+            // The decode refuses a template on another entry: there environment 1 did not follow.
+            if (boardOfEarlierLevel && decoded != PSC_OK) return false;
+            batch.check(decoded, "decoding the state");
             return json::parse(batch.dump(1)) == actual;
         };
         auto compare = [&](const json& expected, const std::string& label) {
