@@ -59,6 +59,19 @@ constexpr size_t kRegisterCodeBudget = 40000;
 constexpr size_t kGroupCopyBudget = 16000;
 constexpr size_t kGroupUnitWeight = 16000;
 
+// The memory layout over boards too large to unroll (more than
+// kMaxUnrolledBoardWords words) keeps its boards in local memory and its
+// loops over their words rolled, so few values need registers at once, and
+// its warps wait on local memory: more of them an SM hide more of that wait.
+// A cap of 80 registers a thread (uncapped, ptxas takes up to 255), on one
+// H200 against none, at the best of batches 16,384 and 1,048,576: atlas
+// 1.41x, and 11 of 12 corpus games of 9-60 words within 1 % or faster (up
+// to 1.24x; the other 0.99x).  64 gave atlas 1.56x but lost up to 18 %
+// (hypermaze), as 72 lost 10 %; boards that unroll lost up to half at 64
+// (limerick), where the turn's movement holds boards in registers
+// (docs/performance.md).
+constexpr int kRolledBoardRegisters = 80;
+
 // How the GPU code is built (gpuCode, below): decided once per source, as it
 // generates the rules to size them.
 struct GpuCode {
@@ -190,9 +203,11 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
         out.line(fmt::format("#define PSC_RUN_KERNEL_BLOCKS {}  // the stepping kernel's blocks an SM (0: no launch bounds)",
                              gpu.runBlocks));
         // A kernel's launch bounds cap its registers, and those of what it calls
-        // in another unit must fit under the same cap, or the link fails: NVRTC
-        // (runtime/CudaCompiler.cpp) and the driver's link of PTX
-        // (runtime/plugin_host/CudaBackend.cpp) compile every unit so.
+        // in another unit must fit under the same cap, or the link fails; the
+        // memory layout over large boards takes a cap for occupancy
+        // (kRolledBoardRegisters).  NVRTC and nvcc (runtime/CudaCompiler.cpp)
+        // and the driver's link of PTX (runtime/plugin_host/CudaBackend.cpp)
+        // compile every unit so.
         out.line(fmt::format("#define PSC_UNIT_MAX_REGISTERS {}  // registers a thread in every compile unit (0: no cap)",
                              gpu.unitRegisters));
         out.line(fmt::format("#define PSC_SEARCH_KERNELS {}  // psc_expand on the GPU (--search-kernels)",
@@ -737,6 +752,7 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
         }
     }
     gpu.rules.units = gpu.units;
+    if (!gpu.inGroups && !gpu.inShared && words > kMaxUnrolledBoardWords) gpu.unitRegisters = kRolledBoardRegisters;
     if (gpu.units > 1 && options.cudaUnits != 2) {
         // The turn's own unit: in unit 0, with the kernels, it made that
         // unit the slowest to compile (docs/performance.md).

@@ -358,17 +358,19 @@ bool unpack(std::string_view bytes, CudaCompileResult& r) {
 CudaCompileResult compileCuda(const std::string& source, const std::string& name, const CudaCompileOptions& options) {
     CudaCompileResult r;
     const auto start = std::chrono::steady_clock::now();
+    // The source's cap on registers a thread (codegen/CppSource.cpp), for
+    // every unit, or the one program.
+    CudaCompileOptions unitOptions = options;
+    if (const int cap = definedNumber(source, "PSC_UNIT_MAX_REGISTERS", 0); cap > 0) {
+        unitOptions.extraOptions.push_back(fmt::format("-maxrregcount={}", cap));
+    }
     if (options.compiler == "nvcc") {
-        r.ok = nvccCompile(source, name, options, r);
+        r.ok = nvccCompile(source, name, unitOptions, r);
     } else if (const NvrtcModule* nvrtc = nvrtcModule().module) {
         // A syntax check reads the source once, as one program: that is all of
         // every unit's code (tests/correctness/cuda_compile_units.py compiles and
         // links units), and CI checks a thousand games so.
         const int units = options.syntaxOnly ? 1 : compileUnitsOf(source);
-        CudaCompileOptions unitOptions = options;
-        if (const int cap = definedNumber(source, "PSC_UNIT_MAX_REGISTERS", 0); units > 1 && cap > 0) {
-            unitOptions.extraOptions.push_back(fmt::format("-maxrregcount={}", cap));
-        }
         // In a forked copy, so that a compile that runs too long stops (NVRTC
         // has no time limit of its own) and dies with psc.
         const double wall = options.wallSeconds >= 0 ? options.wallSeconds : defaultCompileLimits().wallSeconds;

@@ -116,12 +116,12 @@ Driver& driver() {
 
 // The game's kernels: the cubin, or, on another architecture (or with
 // PSC_CUDA_FROM_PTX=1, which tests this path), the PTX compiled by the driver
-// and, from several compile units, linked by it.
+// and, from several compile units or under a register cap, linked by it.
 CUresult loadModule(const DeviceCode& code, CUmodule* module) {
     Driver& d = driver();
     const char* fromPtx = std::getenv("PSC_CUDA_FROM_PTX");
     if (!(fromPtx && *fromPtx && *fromPtx != '0') && d.cuModuleLoadData(module, code.cubin) == 0) return 0;
-    if (code.ptxUnits == 1) return d.cuModuleLoadData(module, code.ptx);
+    if (code.ptxUnits == 1 && code.unitMaxRegisters == 0) return d.cuModuleLoadData(module, code.ptx);
     CUlinkState link = nullptr;
     int capOption = kJitMaxRegisters;
     void* cap = reinterpret_cast<void*>(static_cast<uintptr_t>(code.unitMaxRegisters));
