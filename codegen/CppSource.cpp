@@ -64,12 +64,10 @@ constexpr size_t kGroupUnitWeight = 16000;
 // loops over their words rolled, so few values need registers at once, and
 // its warps wait on local memory: more of them an SM hide more of that wait.
 // A cap of 80 registers a thread (uncapped, ptxas takes up to 255), on one
-// H200 against none, at the best of batches 16,384 and 1,048,576: atlas
-// 1.41x, and 11 of 12 corpus games of 9-60 words within 1 % or faster (up
-// to 1.24x; the other 0.99x).  64 gave atlas 1.56x but lost up to 18 %
-// (hypermaze), as 72 lost 10 %; boards that unroll lost up to half at 64
-// (limerick), where the turn's movement holds boards in registers
-// (docs/performance.md).
+// H200 against none, at the best of batches 16,384 and 1,048,576: 14 corpus
+// games of 9-60 words 0.99-1.24x.  64 lost up to 18 % (hypermaze), 72 up to
+// 10 %.  Over boards that unroll, 80 gave 0.70-1.41x (atlas the best), with
+// no sign before ptxas runs of which (docs/performance.md).
 constexpr int kRolledBoardRegisters = 80;
 
 // How the GPU code is built (gpuCode, below): decided once per source, as it
@@ -177,6 +175,14 @@ std::pair<int, int> fixedSize(const Game& g, const SourceOptions& o) {
     return {std::max(width, 0), std::max(height, 0)};
 }
 
+int largestHeight(const Game& g, const SourceOptions& o) {
+    int height = 0;
+    for (size_t i = 0; i < g.levels.size(); ++i) {
+        if (!g.levels[i].isMessage && entryBuilt(g, o, i)) height = std::max(height, g.levels[i].height);
+    }
+    return height;
+}
+
 void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const GpuCode& gpu) {
     out.line(fmt::format("#define PSC_USES_RANDOM {}", usesRandom(g) ? 1 : 0));
     out.line(fmt::format("#define PSC_HAS_RIGID {}", g.hasRigid ? 1 : 0));
@@ -221,6 +227,7 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
     const auto [fixedWidth, fixedHeight] = fixedSize(g, o);
     out.line(fmt::format("constexpr int kFixedWidth = {};   // the width of every level built, or 0", fixedWidth));
     out.line(fmt::format("constexpr int kFixedHeight = {};  // the height of every level built, or 0", fixedHeight));
+    out.line(fmt::format("constexpr int kMaxBuiltHeight = {};  // the height of the tallest level built", largestHeight(g, o)));
     out.line(fmt::format("constexpr int kEntries = {};  // LEVELS entries, messages included", g.levels.size()));
     out.line(fmt::format("constexpr int kRigidGroupCount = {};", g.rigidGroupIndexToGroupIndex.size()));
     out.line(fmt::format("constexpr int kWinConditionCount = {};", g.winConditions.size()));

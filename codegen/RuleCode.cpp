@@ -123,7 +123,7 @@ void emitRowBoards(CodeWriter& out, const RowLayout& row, const std::string& pre
     std::vector<std::string> terms;
     for (size_t i = 0; i < prefixEnd; ++i) {
         std::string b = patternBoard(cells[i]);
-        terms.push_back(i == 0 ? b : fmt::format("shiftBy({}, {} * {}d)", b, i, prefix));
+        terms.push_back(i == 0 ? b : fmt::format("shiftBySteps<{}>({}, {} * {}d)", i, b, i, prefix));
     }
     const std::string board = joinWith(terms, " & ");
     out.line(fmt::format("const Board {}row{} = {};", prefix, row.index,
@@ -433,7 +433,7 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
             const CellPattern& cell = rule.rows[writer->row][writer->cell];
             std::string at = fmt::format("row{}", writer->row);
             if (writer->cell > 0) {
-                out.line(fmt::format("const Board at = shiftBy({}, -{} * d);", at, writer->cell));
+                out.line(fmt::format("const Board at = shiftBySteps<{}>({}, -{} * d);", writer->cell, at, writer->cell));
                 at = "at";
             }
             const std::optional<CellFacts> facts = knownFacts(g, rule, writer->row, cell, layersExclusive);

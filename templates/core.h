@@ -392,12 +392,38 @@ PSC_DEVICE PSC_INLINE Board shiftUp(const Board& b, int n) {
 // bit p of the result is bit p + d of b.
 PSC_DEVICE PSC_INLINE Board shiftBy(const Board& b, int d) { return d >= 0 ? shiftDown(b, d) : shiftUp(b, -d); }
 
+// shiftBy for N steps to a neighbouring cell, d = +-N or +-N(H+1).  Where N
+// columns of every level built (H+1 cells each) are shorter than a word,
+// each word of the result takes bits from the same word of b and the one
+// beside it, chosen by d's sign without a branch, not from a word picked at
+// run time: the registers layout's code shifts by run-time steps (the rules'
+// directions, the movement over boards), and NVVM's time on its stepping
+// kernel fell by a tenth or more (docs/performance.md).
+template <int N = 1>
+PSC_DEVICE PSC_INLINE Board shiftBySteps(const Board& b, int d) {
+    if constexpr (N * (kMaxBuiltHeight + 1) >= 64) {
+        return shiftBy(b, d);
+    } else {
+        Board r;
+        const bool up = d < 0;
+        const int bits = d & 63;  // up by n: the word below's top n bits, at 64 - n
+        PSC_UNROLL for (int i = 0; i < kWords; ++i) {
+            const u64 below = i > 0 ? b.w[i - 1] : 0;
+            const u64 above = i + 1 < kWords ? b.w[i + 1] : 0;
+            const u64 lo = up ? below : b.w[i];
+            const u64 hi = up ? b.w[i] : above;
+            r.w[i] = (lo >> bits) | (bits ? hi << (64 - bits) : 0);
+        }
+        return r;
+    }
+}
+
 // The bits of `b` at `moved[k]` go one step along `steps[k]`; `leaving` is
 // the union of `moved` (most objects of a moving layer are not among them).
 PSC_DEVICE PSC_INLINE void moveObjectWhere(Board& b, const Board (&moved)[4], const Board& leaving, const int (&steps)[4]) {
     if (!(b & leaving).any()) return;
     Board arriving = Board::zero();
-    PSC_UNROLL for (int k = 0; k < 4; ++k) arriving = arriving | shiftBy(b & moved[k], -steps[k]);
+    PSC_UNROLL for (int k = 0; k < 4; ++k) arriving = arriving | shiftBySteps(b & moved[k], -steps[k]);
     b = andNot(b, leaving) | arriving;
 }
 

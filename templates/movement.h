@@ -115,7 +115,7 @@ PSC_DEVICE PSC_INLINE bool resolveMovementsAtOnce(Env& e) {
                 twice = twice | (seen & m);
                 seen = seen | m;
                 if (k == 4) break;
-                const Board target = shiftBy(m, -steps[k]) & e.inside;
+                const Board target = shiftBySteps(m, -steps[k]) & e.inside;
                 twice = twice | (targets & target);
                 targets = targets | target;
             }
@@ -132,7 +132,7 @@ PSC_DEVICE PSC_INLINE bool resolveMovementsAtOnce(Env& e) {
             for (bool grew = true; grew;) {
                 grew = false;
                 PSC_UNROLL for (int k = 0; k < 4; ++k) {
-                    const Board m = e.mov[5 * L + k] & shiftBy(open, steps[k]);
+                    const Board m = e.mov[5 * L + k] & shiftBySteps(open, steps[k]);
                     if (m == moved[k]) continue;
                     moved[k] = m;
                     open = open | m;

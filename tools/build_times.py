@@ -5,7 +5,7 @@
 
   tools/build_times.py run [--psc P] [--corpus C] [--largest N] [--code-games M] [--ids ID ...] [--targets cpu,cuda] [--jobs J] --json R.json
   tools/build_times.py run --all [--targets cpu] [--parallel P] [--shard K/N] --json R.json   every corpus game
-  tools/build_times.py run --games G.txt ... [--repeats K] [--levels 0] --json R.json
+  tools/build_times.py run --games G.txt ... [--repeats K] [--levels 0] [--against OLD_PSC] --json R.json
   tools/build_times.py render R.json            a Markdown table of R.json (a summary past 40 games)
 
 Corpus games are taken once each (by text) from the corpus's traces, ranked
@@ -13,7 +13,9 @@ by the size of their source with the rules as straight-line code (`psc GAME
 --emit cpp --rules code`, measured J at a time): the N largest, then the M
 largest of those `auto` still writes as code, then the games of the cases
 --ids names; or all of them, unranked.  --games builds the given files
-instead, K times each.  The builds run one at a time."""
+instead, K times each; with --against, each of those builds follows one by
+OLD_PSC, so that both see the machine alike, and the table sets them side by
+side.  The builds run one at a time."""
 import argparse
 import concurrent.futures
 import hashlib
@@ -80,9 +82,15 @@ def run_games(a):
         for path in a.games:
             row = {"game": os.path.splitext(os.path.basename(path))[0]}
             for target in a.targets.split(","):
-                runs = [build(a.psc, path, target, tmp, extra) for _ in range(a.repeats)]
-                row[target] = dict(runs[0], seconds=min(r["seconds"] for r in runs), ok=all(r["ok"] for r in runs),
-                                   repeats=[r["seconds"] for r in runs])
+                runs, before = [], []
+                for _ in range(a.repeats):
+                    if a.against:
+                        before.append(build(a.against, path, target, tmp, extra))
+                    runs.append(build(a.psc, path, target, tmp, extra))
+                for key, builds in ((target, runs), (target + "_against", before)):
+                    if builds:
+                        row[key] = dict(builds[0], seconds=min(r["seconds"] for r in builds),
+                                        ok=all(r["ok"] for r in builds), repeats=[r["seconds"] for r in builds])
             rows.append(row)
             print(json.dumps(row), flush=True)
     return rows
@@ -150,6 +158,35 @@ def render_summary(report, targets):
             print(f"\n{t.upper()} build of `{g['game']}` failed: {g[t]['error'][-200:]}")
 
 
+def median(values):
+    return sorted(values)[len(values) // 2]
+
+
+def render_against(report, targets):
+    """Games built several times by two psc, alternately: their medians side by side."""
+    print("| game | " + " | ".join(f"{t.upper()} before: min / median | after | after / before" for t in targets) + " |")
+    print("|---|" + "---:|---:|---:|" * len(targets))
+    medians = {t: ([], []) for t in targets}
+    for g in report["games"]:
+        cells = []
+        for t in targets:
+            old, new = g[t + "_against"], g[t]
+            if not (old["ok"] and new["ok"]):
+                cells += ["failed" if not old["ok"] else "", "failed" if not new["ok"] else "", ""]
+                continue
+            m_old, m_new = median(old["repeats"]), median(new["repeats"])
+            medians[t][0].append(m_old)
+            medians[t][1].append(m_new)
+            cells += [f"{min(old['repeats']):.2f} / {m_old:.2f} s", f"{min(new['repeats']):.2f} / {m_new:.2f} s",
+                      f"{m_new / m_old:.2f}"]
+        print(f"| {g['game']} | " + " | ".join(cells) + " |")
+    for t in targets:
+        old, new = medians[t]
+        if old:
+            print(f"\n{t.upper()}: median over the games {median(old):.2f} s before, {median(new):.2f} s after; "
+                  f"maximum {max(old):.2f} s before, {max(new):.2f} s after")
+
+
 def render_repeats(report, targets):
     """Given games built several times: min and median of each."""
     print("| game | " + " | ".join(f"{t.upper()} plugin, cold: min / median" for t in targets) + " |")
@@ -172,6 +209,9 @@ def render(a):
     report = json.load(open(a.report))
     targets = [t for t in ("cpu", "cuda") if any(t in g for g in report["games"])]
     print(f"`{report['command']}` (psc {report['commit']}, {report['machine']}, {report['date']}):\n")
+    if any(t + "_against" in g for g in report["games"] for t in targets):
+        render_against(report, targets)
+        return
     if any("repeats" in g.get(t, {}) for g in report["games"] for t in targets):
         render_repeats(report, targets)
         return
@@ -205,6 +245,7 @@ def main():
     r.add_argument("--games", nargs="*", help="these game files instead of the corpus's")
     r.add_argument("--repeats", type=int, default=1, help="builds of each --games file")
     r.add_argument("--levels", nargs="*", help="psc --levels for --games builds")
+    r.add_argument("--against", help="with --games: another psc, each of whose builds precedes one of --psc's")
     r.add_argument("--parallel", type=int, default=1, help="corpus games built at once (default one at a time)")
     r.add_argument("--shard", type=lambda v: tuple(int(x) for x in v.split("/")), default=(0, 1),
                    help="K/N: with --all, every N-th game from the K-th (0-based), for runs split across calls")
