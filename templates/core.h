@@ -392,16 +392,16 @@ PSC_DEVICE PSC_INLINE Board shiftUp(const Board& b, int n) {
 // bit p of the result is bit p + d of b.
 PSC_DEVICE PSC_INLINE Board shiftBy(const Board& b, int d) { return d >= 0 ? shiftDown(b, d) : shiftUp(b, -d); }
 
-// shiftBy for N steps to a neighbouring cell, d = +-N or +-N(H+1).  Where N
-// columns of every level built (H+1 cells each) are shorter than a word,
-// each word of the result takes bits from the same word of b and the one
-// beside it, chosen by d's sign without a branch, not from a word picked at
-// run time: the registers layout's code shifts by run-time steps (the rules'
+// shiftBy for N steps to a neighbouring cell, d = +-N or +-N(H+1).  Where
+// boards have several words and N columns of every level built (H+1 cells
+// each) are shorter than a word, each word of the result takes bits from the
+// same word of b and the one beside it, chosen by d's sign without a branch,
+// not from a word picked at run time: the registers layout's code shifts by run-time steps (the rules'
 // directions, the movement over boards), and NVVM's time on its stepping
 // kernel fell by a tenth or more (docs/performance.md).
 template <int N = 1>
 PSC_DEVICE PSC_INLINE Board shiftBySteps(const Board& b, int d) {
-    if constexpr (N * (kMaxBuiltHeight + 1) >= 64) {
+    if constexpr (kWords == 1 || N * (kMaxBuiltHeight + 1) >= 64) {
         return shiftBy(b, d);
     } else {
         Board r;
