@@ -395,10 +395,11 @@ PSC_DEVICE PSC_INLINE Board shiftBy(const Board& b, int d) { return d >= 0 ? shi
 // shiftBy for N steps to a neighbouring cell, d = +-N or +-N(H+1).  Where
 // boards have several words and N columns of every level built (H+1 cells
 // each) are shorter than a word, each word of the result takes bits from the
-// same word of b and the one beside it, chosen by d's sign without a branch,
-// not from a word picked at run time: the registers layout's code shifts by run-time steps (the rules'
-// directions, the movement over boards), and NVVM's time on its stepping
-// kernel fell by a tenth or more (docs/performance.md).
+// same word of b and the one beside it, chosen by d's sign without a
+// branch, not from a word picked at run time.  The registers layout's code
+// shifts by run-time steps (the rules' directions, the movement over
+// boards): NVVM's time on its stepping kernel fell by a tenth or more
+// (docs/performance.md).
 template <int N = 1>
 PSC_DEVICE PSC_INLINE Board shiftBySteps(const Board& b, int d) {
     if constexpr (kWords == 1 || N * (kMaxBuiltHeight + 1) >= 64) {
