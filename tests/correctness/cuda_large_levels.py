@@ -21,27 +21,32 @@ WIDTH, HEIGHT = 200, 190
 STACK_LIMIT = 128 * 1024  # a quarter of the driver's 512 kB; such a game needed more than 512 kB before
 
 
-def large_level():
-    rows = ["#" * WIDTH]
-    for y in range(1, HEIGHT - 1):
-        row = ["."] * WIDTH
+def walled_level(width, height, middle):
+    """A level of floor walled round, `middle` (legend characters) at the middle row's middle."""
+    rows = ["#" * width]
+    for y in range(1, height - 1):
+        row = ["."] * width
         row[0] = row[-1] = "#"
-        if y == HEIGHT // 2:
-            row[WIDTH // 2 - 1:WIDTH // 2 + 3] = list("PLRH")
+        if y == height // 2:
+            row[width // 2 - 1:width // 2 - 1 + len(middle)] = list(middle)
         rows.append("".join(row))
-    rows.append("#" * WIDTH)
+    rows.append("#" * width)
     return "\n".join(rows) + "\n"
+
+
+def with_level(text, level):
+    """The game `text` with `level` as its only level."""
+    return text[:text.index("LEVELS")] + "LEVELS\n=======\n\n" + level
 
 
 def main():
     psc, rigid_game = sys.argv[1], sys.argv[2]
     text = open(rigid_game).read()
-    head = text[:text.index("LEVELS")]
     failures = []
     with tempfile.TemporaryDirectory() as work:
         game = os.path.join(work, "large.txt")
         with open(game, "w") as f:
-            f.write(head + "LEVELS\n=======\n\n" + large_level())
+            f.write(with_level(text, walled_level(WIDTH, HEIGHT, "PLRH")))
         for rules in ("code", "table"):
             r = subprocess.run([psc, game, "--emit", "ptx", "--verbose", "--rules", rules], capture_output=True, text=True,
                                timeout=600, env=dict(os.environ, XDG_CACHE_HOME=os.path.join(work, "cache-" + rules)))

@@ -16,17 +16,10 @@ import subprocess
 import sys
 import tempfile
 
+from cuda_large_levels import walled_level, with_level
+
 CAP = 80
 ENTRIES = {"psc_run_kernel", "psc_reset_kernel", "psc_observe_kernel"}
-
-
-def with_large_level(text):
-    width, height = 24, 30
-    rows = ["#" * width] + ["#" + "." * (width - 2) + "#" for _ in range(height - 2)] + ["#" * width]
-    middle = list(rows[height // 2])
-    middle[width // 2] = "P"
-    rows[height // 2] = "".join(middle)
-    return text[:text.index("LEVELS")] + "LEVELS\n=======\n\n" + "\n".join(rows) + "\n"
 
 
 def build(psc, game, options, cache):
@@ -67,7 +60,7 @@ def main():
     with tempfile.TemporaryDirectory() as work:
         large = os.path.join(work, "large.txt")
         with open(large, "w") as f:
-            f.write(with_large_level(open(game).read()))
+            f.write(with_level(open(game).read(), walled_level(24, 30, "P")))
         cache = os.path.join(work, "cache")
         check(psc, large, [], CAP, failures, cache)
         check(psc, large, ["--cuda-units", "1"], CAP, failures, cache)
