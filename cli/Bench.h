@@ -1,7 +1,9 @@
 // psc bench: steps/s of a game's plugin on random actions with automatic
 // reset on a win (the plugin's fused rollout).  Prints one row per batch size
-// (median and min of the repeats, warm-up excluded; CUDA events on the GPU)
-// and a last line `steps/s: <median of the best batch size>`.  With --devices,
+// (median and min of the repeats, warm-up excluded; CUDA events on the GPU;
+// and the seconds the batch's reset took, not counted in steps/s) and a last
+// line `steps/s: <median of the best batch size>`.  A sweep that has run past
+// its time limit measures no further batch and says so (exit 2).  With --devices,
 // one batch of each size on every device listed, stepped at once: the rows are
 // the devices' steps/s together, timed by the host's clock.
 #pragma once
@@ -21,6 +23,7 @@ struct BenchOptions {
     int threads = 1;
     int repeats = 5;
     int warmup = 1;
+    double timeLimit = 600;  // seconds; no batch is begun after it
     std::string backend = "cpu";
     int device = 0;            // CUDA ordinal
     std::vector<int> devices;  // several CUDA ordinals: one batch on each, stepped at once (aggregate steps/s)

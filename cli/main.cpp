@@ -191,6 +191,7 @@ int main(int argc, char** argv) {
     bench->add_option("--threads", benchOptions.threads, "CPU threads");
     bench->add_option("--repeats", benchOptions.repeats, "timed runs (the median is reported)");
     bench->add_option("--warmup", benchOptions.warmup, "untimed runs first");
+    bench->add_option("--time-limit", benchOptions.timeLimit, "seconds after which no further batch is begun (default 600)");
     bench->add_option("--backend", benchOptions.backend, "cpu")->check(CLI::IsMember({"cpu", "cuda"}));
     bench->add_option("--device", benchOptions.device, "CUDA device ordinal")->check(CLI::Range(0, 1023));
     bench->add_option("--devices", benchOptions.devices, "several CUDA devices (0,1,...): one batch each, stepped at once")

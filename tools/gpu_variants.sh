@@ -26,7 +26,7 @@ for game in $GAMES; do
         device/bin/$binary bench "bench/games/$game.txt" --backend cuda --batch "$batches" --repeats 5 --warmup 1 \
             $options --verbose > "$result" 2>&1
         best=$(sed -n 's/^steps\/s: //p' "$result")
-        single=$(awk '$1 == 1 && NF == 5 {print $3}' "$result")
+        single=$(awk '$1 == 1 && NF == 6 {print $3}' "$result")
         printf '%28s' "${best:-fail}/${single:-?}" >> "$out/summary.txt"
     done <<< "$VARIANTS"
     echo >> "$out/summary.txt"

@@ -31,7 +31,8 @@ SMALL_BATCHES = (1, 1024, 16384)
 
 def gpu_bench(path):
     text = open(path).read()
-    rows = {int(m.group(1)): float(m.group(2)) for m in re.finditer(r"^\s+(\d+)\s+\d+\s+(\d+)\s+\d+\s+\d+$", text, re.M)}
+    rows = {int(m.group(1)): float(m.group(2))
+            for m in re.finditer(r"^\s+(\d+)\s+\d+\s+(\d+)\s+\d+\s+\d+(?:\s+[\d.]+)?$", text, re.M)}
     best = re.search(r"best batch (\d+)\nsteps/s: (\d+)", text)
     return {"best": float(best.group(2)), "best_batch": int(best.group(1)), "rows": rows}
 
