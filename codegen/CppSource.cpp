@@ -1,6 +1,7 @@
 #include "CppSource.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <bit>
@@ -285,7 +286,34 @@ void emitLayerMoves(CodeWriter& out, const Game& g) {
     });
     // Only the moving layers' cases: the others are never asked for, and
     // NVRTC's optimizer takes time over each case before it drops it.
+    // The memory layout moves a layer's objects in a loop over a table of
+    // them (PSC_LAYER_MOVES_ROLLED, templates/core.h).
     const uint64_t moving = movingLayerBits(g);
+    std::vector<int> layerStart = {0};
+    std::vector<int> layerObjects;
+    for (size_t L = 0; L < g.layerMasks.size(); ++L) {
+        if (layerCanMove(moving, L)) {
+            for (int id : g.layerMasks[L].bits()) layerObjects.push_back(id);
+        }
+        layerStart.push_back(static_cast<int>(layerObjects.size()));
+    }
+    if (layerObjects.empty()) layerObjects.push_back(0);  // no zero-length array; every range is empty
+    out.line("#if PSC_LAYER_MOVES_ROLLED");
+    out.line("// Each moving layer's objects: kMovingLayerObjects[kMovingLayerStart[L] .. kMovingLayerStart[L + 1]).");
+    out.line(fmt::format("PSC_TABLE int kMovingLayerStart[] = {{{}}};", fmt::join(layerStart, ", ")));
+    out.line(fmt::format("PSC_TABLE int kMovingLayerObjects[] = {{{}}};", fmt::join(layerObjects, ", ")));
+    out.open("PSC_DEVICE PSC_INLINE Board layerCells(const Env& e, int layer)");
+    out.line("Board cells = Board::zero();");
+    out.line("PSC_UNROLL_STATE for (int i = kMovingLayerStart[layer]; i < kMovingLayerStart[layer + 1]; ++i) cells = cells | e.obj[kMovingLayerObjects[i]];");
+    out.line("return cells;");
+    out.close();
+    out.open("PSC_DEVICE PSC_INLINE void moveLayerWhere(Env& e, int layer, const Board (&moved)[4], const Board& leaving, "
+             "const int (&steps)[4])");
+    out.line("PSC_UNROLL_STATE for (int i = kMovingLayerStart[layer]; i < kMovingLayerStart[layer + 1]; ++i) {");
+    out.line("    moveObjectWhere(e.obj[kMovingLayerObjects[i]], moved, leaving, steps);");
+    out.line("}");
+    out.close();
+    out.line("#else");
     layerSwitch("PSC_DEVICE PSC_INLINE Board layerCells(const Env& e, int layer)", "return Board::zero();", [&](size_t L) {
         if (!layerCanMove(moving, L)) return std::string();
         std::vector<std::string> boards;
@@ -302,6 +330,7 @@ void emitLayerMoves(CodeWriter& out, const Game& g) {
                     }
                     return body.empty() ? std::string() : body + "break;";
                 });
+    out.line("#endif");
     out.line();
 }
 
