@@ -28,7 +28,8 @@
 #             per target (default 60), FUZZ_TARGETS (default all three); needs device_bundle.sh's FUZZ=1 bundle
 #   buildtime cold `psc GAME -o GAME.so --target cuda --levels 0` of each benchmark game (fresh cache), end to end,
 #             host side in one compile process (PSC_COMPILE_JOBS=1) and in parallel ones (the default), in turn
-#             (BUILD_JOBS="0": the default only), BUILD_REPEATS times (default 2); table in buildtime.txt;
+#             (BUILD_JOBS="0": the default only), BUILD_REPEATS times (default 2); table in buildtime.txt
+#             (with each NVRTC compile unit's seconds);
 #             BUILD_VARIANTS (lines NAME=PSC) builds each game with every variant in turn, one file each
 #             (buildtime_NAME.txt), so that a slow spell of the host falls on all of them
 #   profile   Nsight Compute on each benchmark game's stepping kernel (PROFILE_BATCH environments, default 131072,
@@ -229,8 +230,9 @@ for stage in "$@"; do
                         end=$(date +%s.%N)
                         nvrtc=$(sed -n 's/.*CUDA compile (nvrtc[^)]*) \([0-9.]*\) s.*/\1/p' "$cache/log")
                         host=$(sed -n 's/.*plugin .* (built in \([0-9.]*\) s.*/\1/p' "$cache/log")
-                        printf '%-16s jobs %-2s exit %s  total %6.2f s  nvrtc %6s s  host %6s s\n' "$name" "${jobs/0/all}" \
-                            "$status" "$(awk "BEGIN {print $end - $start}")" "$nvrtc" "$host" | tee -a "$file"
+                        units=$(sed -n 's/.*unit seconds: //p' "$cache/log")
+                        printf '%-16s jobs %-2s exit %s  total %6.2f s  nvrtc %6s s  host %6s s  units %s\n' "$name" "${jobs/0/all}" \
+                            "$status" "$(awk "BEGIN {print $end - $start}")" "$nvrtc" "$host" "$units" | tee -a "$file"
                         rm -rf "$cache"
                     done
                 done <<< "$variants"
