@@ -284,8 +284,6 @@ void emitLayerMoves(CodeWriter& out, const Game& g) {
         for (int id : g.layerMasks[L].bits()) body += fmt::format("moveBit(e.obj[{}], from, to); ", id);
         return body.empty() ? std::string() : body + "break;";
     });
-    // Only the moving layers' cases: the others are never asked for, and
-    // NVRTC's optimizer takes time over each case before it drops it.
     // The memory layout moves a layer's objects in a loop over a table of
     // them (PSC_LAYER_MOVES_ROLLED, templates/core.h).
     const uint64_t moving = movingLayerBits(g);
@@ -314,6 +312,8 @@ void emitLayerMoves(CodeWriter& out, const Game& g) {
     out.line("}");
     out.close();
     out.line("#else");
+    // Only the moving layers' cases: the others are never asked for, and
+    // NVRTC's optimizer takes time over each case before it drops it.
     layerSwitch("PSC_DEVICE PSC_INLINE Board layerCells(const Env& e, int layer)", "return Board::zero();", [&](size_t L) {
         if (!layerCanMove(moving, L)) return std::string();
         std::vector<std::string> boards;
