@@ -12,6 +12,7 @@
 #include "RuleParts.h"
 #include "RuleCode.h"
 #include "RuleTable.h"
+#include "DormantGroups.h"
 #include "Templates.h"
 #include "base/JsString.h"
 #include "base/JsonText.h"
@@ -863,6 +864,8 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     } else {
         emitRules(out, game, options.target == "cpu" ? RuleUnits{} : gpu.rules);
     }
+    out.line(fmt::format("constexpr bool kHasDormantGroups = {};  // groups the turn skips once they go dormant (codegen/DormantGroups.h)",
+                         !form.table && dormantGroups(game).any()));
     out.close("  // namespace psc_game");
     out.line();
     out.raw(templates::movement());

@@ -9,6 +9,7 @@
 #include "DirectionVariants.h"
 #include "Identifiers.h"
 #include "RuleParts.h"
+#include "DormantGroups.h"
 #include "ir/IrDump.h"
 
 namespace psc::codegen {
@@ -866,10 +867,14 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
         out.line();
         return;
     }
+    const DormantGroups dormant = dormantGroups(g);
+    const std::vector<bool>& canSleep = late ? dormant.late : dormant.early;
     auto call = [&](size_t i) {
         std::string c = groupName(groups[i], i, late) + "(e, t)";
+        if (canSleep[i]) c = "(" + c + " && (t.dormantGroupMatched = 1))";
         const std::string needs = groupNeedsTest(g, groups[i]);
         if (!needs.empty()) c = "(PSC_GROUP_NEEDS(" + needs + ") && " + c + ")";
+        if (canSleep[i]) c = "(!e.dormant && " + c + ")";
         if (!late) {
             auto it = g.groupIndexToRigidGroupIndex.find(static_cast<int>(i));
             if (it != g.groupIndexToRigidGroupIndex.end()) {
@@ -951,6 +956,7 @@ void emitRuleSpans(CodeWriter& out, const Game& game, const RuleUnits& layout) {
         }
         spans.back().groups.push_back(p.index);
     }
+    const DormantGroups dormant = dormantGroups(game);
     out.line("// The rule groups run in spans, one function a phase in each unit, each on one copy of the state (templates/core.h).");
     for (const auto& span : spans) out.line("PSC_DEVICE PSC_SPAN void " + span.name + "(Env& env, Turn& turn);");
     out.line();
@@ -964,10 +970,15 @@ void emitRuleSpans(CodeWriter& out, const Game& game, const RuleUnits& layout) {
             out.open("PSC_DEVICE PSC_SPAN void " + span.name + "(Env& env, Turn& turn)");
             out.line("PSC_GROUP_WORKING_COPY(env, turn);");
             const auto& groups = span.late ? game.lateRules : game.rules;
+            const std::vector<bool>& canSleep = span.late ? dormant.late : dormant.early;
             for (size_t i : span.groups) {
-                const std::string call = groupName(groups[i], i, span.late) + "(e, t);";
-                const std::string needs = groupNeedsTest(game, groups[i]);
-                out.line(needs.empty() ? call : "if (PSC_GROUP_NEEDS(" + needs + ")) " + call);
+                // The span's copy of the turn keeps only the rules' changes: the flag goes to the turn itself.
+                std::string call = groupName(groups[i], i, span.late) + "(e, t)";
+                call = canSleep[i] ? "if (" + call + ") turn.dormantGroupMatched = 1;" : call + ";";
+                std::string needs = groupNeedsTest(game, groups[i]);
+                if (!needs.empty()) needs = "PSC_GROUP_NEEDS(" + needs + ")";
+                if (canSleep[i]) needs = needs.empty() ? "!env.dormant" : "!env.dormant && " + needs;
+                out.line(needs.empty() ? call : "if (" + needs + ") " + call);
             }
             out.close();
             out.line();

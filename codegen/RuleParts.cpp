@@ -170,6 +170,36 @@ std::vector<MovementUpdate> movementUpdates(const ir::Game& g, const ir::Replace
     return out;
 }
 
+BitSet movedObjects(const ir::Game& g, const ir::CellPattern& cell, int layer) {
+    const BitSet& onLayer = g.layerMasks[static_cast<size_t>(layer)];
+    BitSet named = cell.present;
+    named |= cell.replacement->set;
+    for (const BitSet& choice : cell.anyOf) named |= choice;
+    named &= onLayer;
+    if (named.any()) return named;
+    BitSet any = onLayer;
+    any.clear(cell.missing);
+    return any;
+}
+
+BitSet removedObjects(const ir::Game& g, const ir::CellPattern& cell) {
+    BitSet removed;
+    cell.replacement->clear.forEach([&](size_t id) {
+        if (cell.missing.test(id)) return;
+        const std::optional<int>& layer = g.objects[id].layer;
+        if (layer) {
+            BitSet others = g.layerMasks[static_cast<size_t>(*layer)];
+            others.reset(id);
+            if (cell.present.intersects(others)) return;
+            for (const BitSet& choice : cell.anyOf) {
+                if (choice.subsetOf(others)) return;
+            }
+        }
+        removed.set(id);
+    });
+    return removed;
+}
+
 uint64_t movingLayerBits(const ir::Game& g) {
     uint64_t bits = 0;
     auto add = [&](int layer) {

@@ -112,6 +112,15 @@ void forEachReplacingCell(const ir::Game& game, F f) {
     }
 }
 
+// Objects that a replacement setting movement on `layer` may set moving: the
+// layer's objects the cell names (present, added or among a property's
+// choices), or, when it names none, any object the layer can hold there.
+BitSet movedObjects(const ir::Game& game, const ir::CellPattern& cell, int layer);
+// Objects a replacement removes that can be in the cell at all: not ruled out
+// by the pattern (`no X`, or another object of X's layer that must be there).
+// Replacements list a whole layer's objects as removed when they add one.
+BitSet removedObjects(const ir::Game& game, const ir::CellPattern& cell);
+
 // The layers whose objects can move, a bit each: the player's (input) and
 // those a replacement gives a movement or a random direction.  The other
 // layers' movement boards stay empty, so movement resolution skips them

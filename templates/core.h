@@ -534,6 +534,7 @@ struct Env {
     u8 startCutOff;          // the last reset ran an again chain at the level's start that was cut off
     u8 startWon;             // the last reset's start (its again chain) won the level before any input
     u8 restarting;           // a restart is in progress (nested restarts are ignored)
+    u8 dormant;              // no dormant group can match until the level is replaced (codegen/DormantGroups.h)
     u16 wins;                // levels won since the counter was last reset
     u32 queue;               // commands queued this turn
     // Episode control (the batch's settings and this environment's episode).
@@ -573,6 +574,7 @@ struct Turn {
     Board rigidApplied[kLayers];    // per layer, claimed by a rigid rule
 #endif
     u64 banned;  // banned rigid groups, by rigid index (bit 63: a ban that names no group)
+    u8 dormantGroupMatched;  // a group that can go dormant matched this turn
 };
 
 // A rule group's working copy (the groups layout): the group runs on copies
@@ -639,6 +641,7 @@ struct GroupWorkingCopy {
 struct TurnScratch {
     Turn turn;
     Snapshot bak;
+    u8 dormantBefore;  // Env::dormant as the turn found it, restored with bak
 #if PSC_HAS_RIGID
     Board startMov[kLayers * 5];
 #endif

@@ -104,8 +104,15 @@ PSC_DEVICE PSC_INLINE void clearMovementsAfterRestore(Env& e) {
 PSC_DEVICE PSC_INLINE void restoreLevel(Env& e, const Snapshot& s) {
     loadObjects(e, s);
     clearMovementsAfterRestore(e);
+    e.dormant = 0;
     e.againing = 0;
     e.queue = 0;
+}
+
+// The level as the turn found it, with its dormant groups as they were.
+PSC_DEVICE PSC_INLINE void restoreTurnStart(Env& e, const TurnScratch& scratch) {
+    restoreLevel(e, scratch.bak);
+    if (kHasDormantGroups) e.dormant = scratch.dormantBefore;
 }
 
 PSC_DEVICE PSC_COLD void doUndo(Env& e, UndoStack& u, bool force, bool ignoreDuplicates) {
@@ -165,6 +172,7 @@ PSC_DEVICE PSC_COLD void loadEntry(Env& e, UndoStack& u) {
     }
     e.textMode = 0;
     loadLevelCells(e, e.entry);
+    e.dormant = 0;
     e.queue = 0;
     clearUndo(u);
     saveObjects(e, e.restartTarget);
@@ -281,6 +289,7 @@ PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, TurnScratch& scratch) {
     Snapshot& bak = scratch.bak;
     e.againing = 0;
     saveObjects(e, bak);
+    if (kHasDormantGroups) scratch.dormantBefore = e.dormant;
     Board playerPositions = Board::zero();
     if (dir >= 0) {
         const int direction = dir == 0 ? 0 : dir == 1 ? 2 : dir == 2 ? 1 : dir == 3 ? 3 : 4;  // field bit
@@ -289,6 +298,7 @@ PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, TurnScratch& scratch) {
     }
     Turn& t = scratch.turn;
     t.banned = 0;
+    t.dormantGroupMatched = 0;
     clearRigidClaims(t);
     e.queue = 0;
 
@@ -321,11 +331,14 @@ PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, TurnScratch& scratch) {
     resolveMovements(e, t);
     applyLateRules(e, t);
 #endif
+    // No group that can go dormant matched (or all were skipped already):
+    // none can match again until the level is replaced.
+    if (kHasDormantGroups && !t.dormantGroupMatched) e.dormant = 1;
 
     if (kRequirePlayerMovement && playerPositions.any()) {
         // Some player moved: one of its starting cells holds no player object now.
         if (!andNot(playerPositions, playerObjects(e)).any()) {
-            restoreLevel(e, bak);
+            restoreTurnStart(e, scratch);
             e.textMode = 0;
             return false;
         }
@@ -336,15 +349,16 @@ PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, TurnScratch& scratch) {
 // The command queue of the `again` dry run (processInput with dontDoWin and
 // dontModify): it never keeps a change; returns whether another turn would
 // change the level.
-PSC_DEVICE PSC_INLINE bool dryRunCommands(Env& e, UndoStack& u, const Snapshot& bak) {
+PSC_DEVICE PSC_INLINE bool dryRunCommands(Env& e, UndoStack& u, const TurnScratch& scratch) {
+    const Snapshot& bak = scratch.bak;
     if (e.queue & kCmdCancel) {
         const bool commandsLeft = popcount(e.queue) > 1;
-        restoreLevel(e, bak);
+        restoreTurnStart(e, scratch);
         return commandsLeft;
     }
     if (e.queue & kCmdRestart) pushUndo(u, bak);
     if (!sameObjects(e, bak)) {
-        restoreLevel(e, bak);
+        restoreTurnStart(e, scratch);
         return true;
     }
     if (e.queue & (kCmdWin | kCmdRestart)) return true;
@@ -368,7 +382,7 @@ PSC_DEVICE PSC_TURN bool playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin)
         const Snapshot& bak = scratch.s.bak;
         const bool ruled = runRules(e, dir, scratch.s);
         if (dryRun) {
-            if (ruled && dryRunCommands(e, u, bak)) e.againing = 1;
+            if (ruled && dryRunCommands(e, u, scratch.s)) e.againing = 1;
             e.queue = 0;
             return modified;
         }
@@ -376,7 +390,7 @@ PSC_DEVICE PSC_TURN bool playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin)
         noteShownMessage(e);
         if (e.queue & kCmdCancel) {
             const bool commandsLeft = popcount(e.queue) > 1;
-            restoreLevel(e, bak);
+            restoreTurnStart(e, scratch.s);
             return commandsLeft;
         }
         if (kHasRestartCommand && (e.queue & kCmdRestart)) {
@@ -498,6 +512,7 @@ PSC_DEVICE PSC_COLD bool startAtEntry(Env& e, UndoStack& u, int entry) {
     e.textMode = 0;
     e.againing = 0;
     e.restarting = 0;
+    e.dormant = 0;
     e.queue = 0;
     e.wins = 0;
     e.startExisted = entry >= 0 && entry < kEntries;

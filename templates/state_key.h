@@ -87,6 +87,7 @@ PSC_DEVICE inline void decodeKey(Env& e, const u64* key) {
     e.queue = 0;
     e.restarting = 0;
     e.wins = 0;
+    e.dormant = 0;
     PSC_UNROLL_STATE for (int k = 0; k < kKeyObjectCount; ++k) {
         PSC_UNROLL for (int w = 0; w < kWords; ++w) e.obj[kKeyObjects[k]].w[w] = key[at++];
     }

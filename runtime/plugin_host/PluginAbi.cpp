@@ -31,7 +31,8 @@ struct StateHeader {
     uint64_t bodyHash;  // FNV-1a of what follows: a damaged state is refused, not loaded
 };
 
-constexpr char kStateMagic[8] = {'p', 's', 'c', 's', 't', 'a', 't', '2'};
+// The last character counts the environment's layouts: a state saved by a plugin of another layout is refused.
+constexpr char kStateMagic[8] = {'p', 's', 'c', 's', 't', 'a', 't', '3'};
 
 uint64_t fnv1a(const char* bytes, size_t size) {
     uint64_t h = 0xcbf29ce484222325ull;
