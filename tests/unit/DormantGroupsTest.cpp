@@ -40,6 +40,13 @@ TEST_CASE("a group that another rule can feed stays awake", "[codegen]") {
     CHECK(d.late == std::vector<bool>{false});
 }
 
+TEST_CASE("a group that requires an object movement can bring stays awake", "[codegen]") {
+    // The player moves into new cells: a player beside a WallSolo can appear.
+    CHECK_FALSE(dormantOf(tiling("late right [ Player | WallSolo ] -> [ Player | WallH ]\n")).late.front());
+    // Nothing moves a target.
+    CHECK(dormantOf(tiling("late right [ Target | WallSolo ] -> [ Target | WallH ]\n")).late.front());
+}
+
 TEST_CASE("a group whose `no` object another rule or movement removes stays awake", "[codegen]") {
     // The player moves, so a cell with no player can appear anywhere.
     CHECK_FALSE(dormantOf(tiling("late [ WallSolo | no Player ] -> [ WallH | ]\n")).late.front());
