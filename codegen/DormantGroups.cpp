@@ -63,19 +63,25 @@ bool DormantGroups::any() const {
 
 DormantGroups dormantGroups(const ir::Game& g) {
     DormantGroups s;
-    for (const auto& group : g.rules) s.early.push_back(mayStopMattering(group));
-    for (const auto& group : g.lateRules) s.late.push_back(mayStopMattering(group));
-    // Objects the other groups and movement may add or remove; a group they
+    std::vector<GroupReads> earlyReads, lateReads;
+    for (const auto& group : g.rules) {
+        s.early.push_back(mayStopMattering(group));
+        earlyReads.push_back(readsOf(group));
+    }
+    for (const auto& group : g.lateRules) {
+        s.late.push_back(mayStopMattering(group));
+        lateReads.push_back(readsOf(group));
+    }
+    // Objects the other groups and movement may add or remove (a dormant
+    // group's writes and movements happen only when it matches); a group they
     // could wake joins the others, until none can be woken.
-    BitSet moving = g.playerMask;
-    g.playerMask.forEach([&](size_t id) {
-        if (const auto& live = g.objects[id].liveId) moving.set(static_cast<size_t>(*live));
-    });
+    const BitSet moving = inputMovedObjects(g);
     for (bool changed = true; changed && s.any();) {
         BitSet added = moving;
         BitSet removed = moving;
         auto addOthers = [&](const std::vector<ir::RuleGroup>& groups, const std::vector<bool>& dormant) {
             for (size_t i = 0; i < groups.size(); ++i) {
+                if (dormant[i]) continue;
                 for (const auto& rule : groups[i].rules) {
                     for (const auto& row : rule.rows) {
                         for (const auto& cell : row) {
@@ -83,13 +89,10 @@ DormantGroups dormantGroups(const ir::Game& g) {
                             const ir::Replacement& r = *cell.replacement;
                             for (int L = 0; L < g.layerCount; ++L) {
                                 if (!r.movementsSet.field(L) && !r.randomDirMask.field(L)) continue;
-                                // A dormant rule's movements, like its writes, happen only when it matches.
-                                if (dormant[i]) continue;
                                 const BitSet movers = movedObjects(g, cell, L);
                                 added |= movers;
                                 removed |= movers;
                             }
-                            if (dormant[i]) continue;
                             added |= r.set;
                             added |= r.randomEntity;
                             removed |= removedObjects(g, cell);
@@ -101,18 +104,16 @@ DormantGroups dormantGroups(const ir::Game& g) {
         addOthers(g.rules, s.early);
         addOthers(g.lateRules, s.late);
         changed = false;
-        auto drop = [&](const std::vector<ir::RuleGroup>& groups, std::vector<bool>& dormant) {
-            for (size_t i = 0; i < groups.size(); ++i) {
-                if (!dormant[i]) continue;
-                const GroupReads reads = readsOf(groups[i]);
-                if (reads.present.intersects(added) || reads.missing.intersects(removed)) {
+        auto drop = [&](const std::vector<GroupReads>& reads, std::vector<bool>& dormant) {
+            for (size_t i = 0; i < reads.size(); ++i) {
+                if (dormant[i] && (reads[i].present.intersects(added) || reads[i].missing.intersects(removed))) {
                     dormant[i] = false;
                     changed = true;
                 }
             }
         };
-        drop(g.rules, s.early);
-        drop(g.lateRules, s.late);
+        drop(earlyReads, s.early);
+        drop(lateReads, s.late);
     }
     return s;
 }

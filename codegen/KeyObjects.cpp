@@ -5,10 +5,7 @@
 namespace psc::codegen {
 
 std::vector<int> keyObjects(const ir::Game& g) {
-    BitSet changing = g.playerMask;
-    g.playerMask.forEach([&](size_t id) {
-        if (const auto& live = g.objects[id].liveId) changing.set(static_cast<size_t>(*live));
-    });
+    BitSet changing = inputMovedObjects(g);
     forEachReplacingCell(g, [&](const ir::CellPattern& cell) {
         const ir::Replacement& r = *cell.replacement;
         changing |= removedObjects(g, cell);

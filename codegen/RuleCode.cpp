@@ -849,7 +849,7 @@ struct Span {
 };
 
 void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGroup>& groups,
-                    const std::map<int, int>& loops, bool late, const std::vector<Span>& spans) {
+                    const std::map<int, int>& loops, bool late, const std::vector<Span>& spans, const DormantGroups& dormant) {
     const std::string fn = late ? "applyLateRules" : "applyEarlyRules";
     out.line(late ? "// Late rules, in order (with their loops)." : "// The rules, in order (with their loops and rigid bans).");
     // Compiled in the turn's unit (PSC_DEFINES_TURN, templates/core.h), declared for all.
@@ -867,7 +867,6 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
         out.line();
         return;
     }
-    const DormantGroups dormant = dormantGroups(g);
     const std::vector<bool>& canSleep = late ? dormant.late : dormant.early;
     auto call = [&](size_t i) {
         std::string c = groupName(groups[i], i, late) + "(e, t)";
@@ -916,7 +915,7 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
 // inlined, working in place; runs of consecutive groups to units
 // 1..groupUnits by their weight; in each unit a span function a phase that
 // copies the state once and runs its groups on the copy.
-void emitRuleSpans(CodeWriter& out, const Game& game, const RuleUnits& layout) {
+void emitRuleSpans(CodeWriter& out, const Game& game, const RuleUnits& layout, const DormantGroups& dormant) {
     std::set<std::string> used;
     const std::vector<std::string> messages = ruleMessages(game);
     const bool layersExclusive = layersHoldOneObject(game);
@@ -956,7 +955,6 @@ void emitRuleSpans(CodeWriter& out, const Game& game, const RuleUnits& layout) {
         }
         spans.back().groups.push_back(p.index);
     }
-    const DormantGroups dormant = dormantGroups(game);
     out.line("// The rule groups run in spans, one function a phase in each unit, each on one copy of the state (templates/core.h).");
     for (const auto& span : spans) out.line("PSC_DEVICE PSC_SPAN void " + span.name + "(Env& env, Turn& turn);");
     out.line();
@@ -986,15 +984,15 @@ void emitRuleSpans(CodeWriter& out, const Game& game, const RuleUnits& layout) {
         out.raw(fmt::format("#endif  // compile unit {}\n", unit));
     }
     out.line();
-    emitApplyRules(out, game, game.rules, game.loopPoints, false, spans);
-    emitApplyRules(out, game, game.lateRules, game.lateLoopPoints, true, spans);
+    emitApplyRules(out, game, game.rules, game.loopPoints, false, spans, dormant);
+    emitApplyRules(out, game, game.lateRules, game.lateLoopPoints, true, spans, dormant);
 }
 
 }  // namespace
 
 void emitRules(CodeWriter& out, const Game& game, const RuleUnits& layout, std::vector<size_t>* groupBytes) {
     if (layout.groups && layout.spans && !groupBytes) {
-        emitRuleSpans(out, game, layout);
+        emitRuleSpans(out, game, layout, dormantGroups(game));
         return;
     }
     std::vector<Piece> pieces;
@@ -1057,8 +1055,9 @@ void emitRules(CodeWriter& out, const Game& game, const RuleUnits& layout, std::
         }
         out.line();
     }
-    emitApplyRules(out, game, game.rules, game.loopPoints, false, {});
-    emitApplyRules(out, game, game.lateRules, game.lateLoopPoints, true, {});
+    const DormantGroups dormant = dormantGroups(game);
+    emitApplyRules(out, game, game.rules, game.loopPoints, false, {}, dormant);
+    emitApplyRules(out, game, game.lateRules, game.lateLoopPoints, true, {}, dormant);
 }
 
 bool groupUsesRandom(const ir::RuleGroup& group) {

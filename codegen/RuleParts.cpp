@@ -170,6 +170,14 @@ std::vector<MovementUpdate> movementUpdates(const ir::Game& g, const ir::Replace
     return out;
 }
 
+BitSet inputMovedObjects(const ir::Game& g) {
+    BitSet moved = g.playerMask;
+    g.playerMask.forEach([&](size_t id) {
+        if (const auto& live = g.objects[id].liveId) moved.set(static_cast<size_t>(*live));
+    });
+    return moved;
+}
+
 BitSet movedObjects(const ir::Game& g, const ir::CellPattern& cell, int layer) {
     const BitSet& onLayer = g.layerMasks[static_cast<size_t>(layer)];
     BitSet named = cell.present;

@@ -112,6 +112,8 @@ void forEachReplacingCell(const ir::Game& game, F f) {
     }
 }
 
+// The objects input moves: the player's, with the live ids of its ghosts.
+BitSet inputMovedObjects(const ir::Game& game);
 // Objects that a replacement setting movement on `layer` may set moving: the
 // layer's objects the cell names (present, added or among a property's
 // choices), or, when it names none, any object the layer can hold there.
