@@ -339,7 +339,11 @@ void emitTables(CodeWriter& out, const Game& g, const SourceOptions& o) {
     auto str = [](int v) { return std::to_string(v); };
     out.line("// ---- the game's tables");
     out.open("namespace psc_game");
-    // Levels: each level's object boards, at positions x * (height + 1) + y.
+    // Levels: each level's geometry masks (Env::rowStart, Env::inside), then
+    // its object boards, at positions x * (height + 1) + y.  The masks are
+    // tables, not computed at the level's start, because an episode's reset
+    // runs on one GPU thread while the rest of its warp waits (constellationz
+    // spent 5 % of its warp instructions building them).
     const int words = boardWords(g, o);
     std::vector<int> isMessage;
     std::vector<int> widths;
@@ -359,15 +363,22 @@ void emitTables(CodeWriter& out, const Game& g, const SourceOptions& o) {
             continue;
         }
         offsets.push_back(static_cast<int>(boards.size()));
+        std::vector<uint64_t> rowStart(static_cast<size_t>(words), 0);
+        std::vector<uint64_t> inside(static_cast<size_t>(words), 0);
         std::vector<std::vector<uint64_t>> b(static_cast<size_t>(std::max(1, g.objectCount)),
                                              std::vector<uint64_t>(static_cast<size_t>(words), 0));
         for (int x = 0; x < level.width; ++x) {
             for (int y = 0; y < level.height; ++y) {
                 const int p = positionOf(x, y, level.height);
+                if (y == 0) rowStart[static_cast<size_t>(p / 64)] |= 1ull << (p % 64);
+                inside[static_cast<size_t>(p / 64)] |= 1ull << (p % 64);
                 level.cells[static_cast<size_t>(x * level.height + y)].forEach([&](size_t id) {
                     if (id < b.size()) b[id][static_cast<size_t>(p / 64)] |= 1ull << (p % 64);
                 });
             }
+        }
+        for (const auto& board : {rowStart, inside}) {
+            for (uint64_t w : board) boards.push_back(fmt::format("0x{:x}ull", w));
         }
         for (const auto& object : b) {
             for (uint64_t w : object) boards.push_back(fmt::format("0x{:x}ull", w));
@@ -409,8 +420,14 @@ void emitTables(CodeWriter& out, const Game& g, const SourceOptions& o) {
     out.line();
     emitLayerMoves(out, g);
     out.open("PSC_DEVICE PSC_COLD void loadLevelCells(Env& e, int entry)");
-    out.line("setGeometry(e, kEntryWidth[entry], kEntryHeight[entry]);");
+    out.line("e.width = kEntryWidth[entry];");
+    out.line("e.height = kEntryHeight[entry];");
     out.line("const u64* src = kLevelBoards + kEntryBoards[entry];");
+    out.line("for (int w = 0; w < kWords; ++w) {");
+    out.line("    e.rowStart.w[w] = src[w];");
+    out.line("    e.inside.w[w] = src[kWords + w];");
+    out.line("}");
+    out.line("src += 2 * kWords;");
     out.line("for (int o = 0; o < kObjects; ++o) {");
     out.line("    for (int w = 0; w < kWords; ++w) e.obj[o].w[w] = src[o * kWords + w];");
     out.line("}");

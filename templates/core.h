@@ -709,36 +709,6 @@ PSC_DEVICE PSC_INLINE bool putMovementChosen(Env& e, int p, int layer, u32 clear
     return ch;
 }
 
-// The positions below n.
-PSC_DEVICE PSC_INLINE Board positionsBelow(int n) {
-    Board b;
-    PSC_UNROLL_STATE for (int i = 0; i < kWords; ++i) {
-        const int bits = n - 64 * i;
-        b.w[i] = bits >= 64 ? ~0ull : bits <= 0 ? 0ull : (1ull << bits) - 1;
-    }
-    return b;
-}
-
-// Sets the level size and the masks derived from it.  Every level start
-// runs it, an episode's reset among them, which a GPU thread runs while the
-// rest of its warp waits: the masks are built a board at a time, one column
-// doubled until it fills the width, not a cell at a time (constellationz
-// 6 % more steps a second on the GPU; docs/performance.md).
-PSC_DEVICE PSC_COLD void setGeometry(Env& e, int width, int height) {
-    e.width = static_cast<short>(width);
-    e.height = static_cast<short>(height);
-    const int column = height + 1;
-    Board starts = positionsBelow(1);
-    Board cells = positionsBelow(height);
-    for (int columns = 1; columns < width; columns *= 2) {
-        starts = starts | shiftUp(starts, columns * column);
-        cells = cells | shiftUp(cells, columns * column);
-    }
-    const Board level = positionsBelow(width * column);
-    e.rowStart = starts & level;
-    e.inside = cells & level;
-}
-
 // Loops over the set positions s of board m in the order a vertical rule
 // scans (column-major: increasing position), and a horizontal rule scans
 // (row-major: row by row, x increasing).  `continue` moves to the next position.

@@ -519,7 +519,10 @@ PSC_DEVICE PSC_COLD bool startAtEntry(Env& e, UndoStack& u, int entry) {
     clearUndo(u);
     if (!e.startExisted || kEntryIsMessage[entry]) {
         // No level buffer yet: an empty one.
-        setGeometry(e, 0, 0);
+        e.width = 0;
+        e.height = 0;
+        e.rowStart = Board::zero();
+        e.inside = Board::zero();
         for (int o = 0; o < kObjects; ++o) e.obj[o] = Board::zero();
         for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
         saveObjects(e, e.restartTarget);

@@ -1,11 +1,12 @@
 #!/usr/bin/python3
-"""setGeometry (templates/core.h) builds a level's masks a board at a time:
-`inside` holds every position x * (height + 1) + y with x < width and
-y < height, and `rowStart` those with y == 0.  This compiles the generated
-CPU source of a small game whose one level makes boards of 1, 2, 4 and 20
-words (the single-word, selected-word and indexed-word code of Board), and
-checks both masks against that definition for every level size the boards
-hold.
+"""A level's start gives the environment its geometry masks (the level tables
+that codegen/CppSource.cpp writes, copied by loadLevelCells): `inside` holds
+every position x * (height + 1) + y with x < width and y < height, and
+`rowStart` those with y == 0.  This compiles the generated CPU source of
+small games whose largest level makes boards of 1, 2, 4 and 20 words (the
+single-word, selected-word and indexed-word code of Board), each with levels
+of many sizes below it, and checks both masks of every level against that
+definition.
 
     level_masks.py PSC CXX"""
 import os
@@ -18,25 +19,28 @@ namespace psc_host { int64_t steadyNanoseconds() { return 0; } }
 #include <cstdio>
 int main() {
     using namespace psc_game;
-    int sizes = 0, wrong = 0;
-    for (int width = 1; width <= 64 * kWords; ++width) {
-        for (int height = 1; width * (height + 1) <= 64 * kWords; ++height) {
-            Env e{};
-            setGeometry(e, width, height);
-            for (int p = 0; p < 64 * kWords; ++p) {
-                const int x = p / (height + 1), y = p % (height + 1);
-                const bool inside = x < width && y < height;
-                const bool rowStart = x < width && y == 0;
-                if (e.inside.test(p) != inside || e.rowStart.test(p) != rowStart) {
-                    if (wrong++ < 5) std::printf("width %d height %d: position %d wrong\n", width, height, p);
-                    break;
-                }
-            }
-            ++sizes;
+    int levels = 0, wrong = 0;
+    for (int entry = 0; entry < kEntries; ++entry) {
+        Env e{};
+        loadLevelCells(e, entry);
+        const int width = kEntryWidth[entry], height = kEntryHeight[entry];
+        if (e.width != width || e.height != height) {
+            if (wrong++ < 5) std::printf("level %d: size %dx%d, not %dx%d\n", entry, e.width, e.height, width, height);
+            continue;
         }
+        for (int p = 0; p < 64 * kWords; ++p) {
+            const int x = p / (height + 1), y = p % (height + 1);
+            const bool inside = x < width && y < height;
+            const bool rowStart = x < width && y == 0;
+            if (e.inside.test(p) != inside || e.rowStart.test(p) != rowStart) {
+                if (wrong++ < 5) std::printf("level %d (%dx%d): position %d wrong\n", entry, width, height, p);
+                break;
+            }
+        }
+        ++levels;
     }
-    std::printf("%d words: %d level sizes, %d wrong\n", kWords, sizes, wrong);
-    return wrong != 0;
+    std::printf("%d words: %d level sizes, %d wrong\n", kWords, levels, wrong);
+    return wrong != 0 || levels != kEntries;
 }
 """
 
@@ -95,11 +99,18 @@ def main():
     failures = []
     with tempfile.TemporaryDirectory() as tmp:
         for width, height, words in ((5, 5, 1), (9, 9, 2), (15, 15, 4), (40, 31, 20)):
-            rows = ["#" * width] + ["#" + "." * (width - 2) + "#"] * (height - 2) + ["#" * width]
-            rows[1] = "#P" + rows[1][2:]
+            # The largest level, then every size whose columns fit its boards
+            # in steps that cross word boundaries at many offsets.
+            sizes = [(width, height)] + [(w, h) for w in range(1, 64 * words, 3) for h in range(1, 40, 4)
+                                         if w * (h + 1) <= width * (height + 1)]
+            levels = []
+            for w, h in sizes:
+                rows = ["." * w] * h
+                rows[0] = "P" + rows[0][1:]
+                levels.append("\n".join(rows))
             game = os.path.join(tmp, f"masks_{words}.txt")
             with open(game, "w") as f:
-                f.write(GAME + "\n".join(rows) + "\n")
+                f.write(GAME + "\n\n".join(levels) + "\n")
             r = subprocess.run([psc, game, "--emit", "cpp"], capture_output=True, text=True, timeout=120)
             if r.returncode or f"constexpr int kWords = {words};" not in r.stdout:
                 failures.append(f"{width}x{height}: --emit cpp failed or not {words} words: {r.stderr[-500:]}")
