@@ -158,13 +158,31 @@ PSC_DEVICE PSC_INLINE void tableQueueCommands(Env& e, int rule) {
     e.queue = queueCommands(e.queue, commands);
 }
 
+// The lowest position of b at or after p, or -1.
+PSC_DEVICE PSC_INLINE int tableNextSet(const Board& b, int p) {
+    int i = p >> 6;
+    if (i >= kWords) return -1;
+    u64 word = b.word(i) & (~0ull << (p & 63));
+    for (;;) {
+        if (word) return i * 64 + lowestBit(word);
+        if (++i >= kWords) return -1;
+        word = b.word(i);
+    }
+}
+
 // Where one row of a rule stands in the visit of its matches: its start s
-// (from its board, in the rule's scan order) and its ellipses' gaps.
+// (from its board, in the rule's scan order) and its ellipses' gaps.  The
+// visit reads the row's board (TableMatches::rowBoard) where it stands, a
+// vertical one from the last start on and a horizontal one cell by cell
+// along the level's rows, and keeps no board of its own: the rule-table
+// stepping kernel's stack then stays within the driver's limit on the
+// largest levels (boards of 724 words), and a horizontal row's cells cost
+// less than the three whole-board operations a row took once the level is
+// 16 or more rows tall.
 struct TableRowVisit {
-    Board rest;   // starts still to visit (vertical), or rows still to visit (horizontal)
-    Board mask;   // horizontal: the row of positions now visited
-    Board inRow;  // horizontal: starts of that row still to visit
-    bool more;    // horizontal: rows remain
+    int left;  // horizontal: starts not yet visited
+    int x;     // horizontal: the column last visited, in level row y
+    int y;
     int s;
     int gapLimit;
     int gap0;
@@ -223,26 +241,25 @@ struct TableMatches {
         return true;
     }
 
-    PSC_DEVICE PSC_INLINE bool nextStart(int r) {
+    PSC_DEVICE PSC_INLINE bool nextStart(const Env& e, int r) {
         TableRowVisit& v = visit[r];
         if (!horizontal) {
-            if (!v.rest.any()) return false;
-            v.s = v.rest.lowest();
-            v.rest.dropLowest();
-            return true;
+            v.s = tableNextSet(rowBoard[r], v.s + 1);
+            return v.s >= 0;
         }
-        for (;;) {
-            if (!v.more) return false;
-            if (v.inRow.any()) {
-                v.s = v.inRow.lowest();
-                v.inRow.dropLowest();
-                return true;
+        if (v.left == 0) return false;
+        for (; v.y < heightOf(e); ++v.y, v.x = -1) {
+            for (int x = v.x + 1; x < widthOf(e); ++x) {
+                const int p = x * columnOf(e) + v.y;
+                if (rowBoard[r].test(p)) {
+                    v.x = x;
+                    v.s = p;
+                    --v.left;
+                    return true;
+                }
             }
-            v.rest = andNot(v.rest, v.mask);
-            v.mask = shiftUp(v.mask, 1);
-            v.more = v.rest.any() && v.mask.any();
-            if (v.more) v.inRow = v.rest & v.mask;
         }
+        return false;
     }
 
     // Whether the saved cells from `first` to `last` (exclusive) of row r hold at their positions.
@@ -265,17 +282,17 @@ struct TableMatches {
         TableRowVisit& v = visit[r];
         int stage = ellipses;
         if (fresh) {
-            v.rest = rowBoard[r];
+            v.s = -1;
             if (horizontal) {
-                v.mask = e.rowStart;
-                v.more = v.rest.any() && v.mask.any();
-                v.inRow = v.more ? v.rest & v.mask : Board::zero();
+                v.left = rowBoard[r].count();
+                v.x = -1;
+                v.y = 0;
             }
             stage = 0;
         }
         for (;;) {
             if (stage == 0) {
-                if (!nextStart(r)) return false;
+                if (!nextStart(e, r)) return false;
                 if (ellipses == 0) return true;
                 const int length = cells - ellipses;
                 const int x = v.s / columnOf(e);
