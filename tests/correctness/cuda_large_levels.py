@@ -9,8 +9,10 @@ thread the GPU can hold).
 
 The rigid-body game gets one level of about 38,000 cells (an environment of
 about 130 kB: over the 128 kB kEnvInBatch bound); its CUDA code is compiled
-(no GPU needed) with its rules as code and as a table, and psc --verbose's
-bound on the kernels' stack must stay under STACK_LIMIT."""
+(no GPU needed) with its rules as code, and with them as a table and a rule
+of nine rows added (the table's visit of a rule's matches once kept three
+boards a row on the stack: 240 kB here), and psc --verbose's bound on the
+kernels' stack must stay under STACK_LIMIT."""
 import os
 import re
 import subprocess
@@ -34,6 +36,15 @@ def walled_level(width, height, middle):
     return "\n".join(rows) + "\n"
 
 
+NINE_ROWS = ("late [ Hole | Hole ]" + " [ Hole ]" * 8 + " -> [ | ]" + " [ Hole ]" * 8 + "\n")
+
+
+def with_nine_row_rule(text):
+    """The game `text` with NINE_ROWS as its first late rule."""
+    at = text.index("late [")
+    return text[:at] + NINE_ROWS + text[at:]
+
+
 def with_level(text, level):
     """The game `text` with `level` as its only level."""
     return text[:text.index("LEVELS")] + "LEVELS\n=======\n\n" + level
@@ -44,10 +55,12 @@ def main():
     text = open(rigid_game).read()
     failures = []
     with tempfile.TemporaryDirectory() as work:
-        game = os.path.join(work, "large.txt")
-        with open(game, "w") as f:
-            f.write(with_level(text, walled_level(WIDTH, HEIGHT, "PLRH")))
-        for rules in ("code", "table"):
+        level = walled_level(WIDTH, HEIGHT, "PLRH")
+        games = {"code": with_level(text, level), "table": with_level(with_nine_row_rule(text), level)}
+        for rules, source in games.items():
+            game = os.path.join(work, f"large_{rules}.txt")
+            with open(game, "w") as f:
+                f.write(source)
             r = subprocess.run([psc, game, "--emit", "ptx", "--verbose", "--rules", rules], capture_output=True, text=True,
                                timeout=600, env=dict(os.environ, XDG_CACHE_HOME=os.path.join(work, "cache-" + rules)))
             stack = re.search(r"kernels' stack: at most (\d+) bytes", r.stderr)
