@@ -370,10 +370,12 @@ void emitTables(CodeWriter& out, const Game& g, const SourceOptions& o) {
         for (int x = 0; x < level.width; ++x) {
             for (int y = 0; y < level.height; ++y) {
                 const int p = positionOf(x, y, level.height);
-                if (y == 0) rowStart[static_cast<size_t>(p / 64)] |= 1ull << (p % 64);
-                inside[static_cast<size_t>(p / 64)] |= 1ull << (p % 64);
+                const size_t word = static_cast<size_t>(p / 64);
+                const uint64_t bit = 1ull << (p % 64);
+                if (y == 0) rowStart[word] |= bit;
+                inside[word] |= bit;
                 level.cells[static_cast<size_t>(x * level.height + y)].forEach([&](size_t id) {
-                    if (id < b.size()) b[id][static_cast<size_t>(p / 64)] |= 1ull << (p % 64);
+                    if (id < b.size()) b[id][word] |= bit;
                 });
             }
         }
