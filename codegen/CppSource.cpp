@@ -61,6 +61,14 @@ constexpr size_t kRegisterCodeBudget = 40000;
 constexpr size_t kGroupCopyBudget = 16000;
 constexpr size_t kGroupUnitWeight = 16000;
 
+// The memory layout inlines each group's rules into the group's function,
+// which spares a call a rule: on one H200, limerick stepped 1.32x and atlas
+// 1.48x as fast (docs/performance.md).  NVVM's time grows faster than the
+// inlined code: a group of 35 kB of code over 5-word boards (weight 178 k)
+// took it 6.8 s alone, one of 51 kB over 2 words (103 k) 1.3 s, limerick's
+// largest (39 k) 0.6 s.  Past this weight a group calls its rules.
+constexpr size_t kInlinedGroupWeight = 64000;
+
 // The memory layout over boards too large to unroll (more than
 // kMaxUnrolledBoardWords words) keeps its boards in local memory and its
 // loops over their words rolled, so few values need registers at once, and
@@ -784,6 +792,7 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
                        copyUnits + apartUnits <= kMaxCompileUnits - 1;
     }
     gpu.rules.groups = gpu.inGroups;
+    gpu.rules.rolledPasses = !gpu.inGroups;
     if (gpu.inGroups) {
         // Within kMaxCompileUnits, at least one unit of each kind needed.
         gpu.rules.groupUnits = std::clamp(copyUnits, copyUnits > 0 ? 1 : 0, kMaxCompileUnits - 1 - std::min(apartUnits, 1));
@@ -798,7 +807,13 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
         gpu.rules.spans = apartUnits == 0 && !large && !usesRandom(game) && !game.hasRigid && game.loopPoints.empty() &&
                           game.lateLoopPoints.empty();
     } else {
+        // The memory layout inlines a group's rules into it (templates/core.h)
+        // up to kInlinedGroupWeight; a larger group, or one over boards too
+        // large to unroll, calls its rules, each a function (apart).
         gpu.rules.apart.clear();
+        for (const size_t bytes : form.groupCodeBytes) {
+            gpu.rules.apart.push_back(words > kMaxUnrolledBoardWords || bytes * static_cast<size_t>(words) > kInlinedGroupWeight);
+        }
         if (options.cudaUnits > 0) {
             // --cuda-units counts the turn's unit, which 3 units or more have.
             gpu.units = std::min(options.cudaUnits >= 3 ? options.cudaUnits - 1 : options.cudaUnits, groups + 1);

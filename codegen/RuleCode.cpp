@@ -648,7 +648,7 @@ struct Piece {
 
 // The group's function: passes over its rules, or (random) one match drawn from all of theirs.
 void emitGroupFunction(CodeWriter& out, const ir::RuleGroup& group, size_t index, bool late,
-                       const std::vector<RuleNames>& names, bool inPlace) {
+                       const std::vector<RuleNames>& names, bool inPlace, bool rolledPasses = false) {
     const std::string name = groupName(group, index, late);
     const std::string state = inPlace ? "PSC_GROUP_IN_PLACE(env, turn);" : "PSC_GROUP_WORKING_COPY(env, turn);";
     if (!group.random) {
@@ -657,7 +657,7 @@ void emitGroupFunction(CodeWriter& out, const ir::RuleGroup& group, size_t index
         out.open("PSC_DEVICE PSC_GROUP bool " + name + "(Env& env, Turn& turn)");
         out.line(state);
         out.line("bool changed = false;");
-        out.open("for (int pass = 0; pass < 200; ++pass)");
+        out.open(std::string(rolledPasses ? "PSC_PASSES " : "") + "for (int pass = 0; pass < 200; ++pass)");
         out.line("bool any = false;");
         for (const auto& n : names) {
             const std::string call = n.apply + "(e, t)";
@@ -711,9 +711,10 @@ std::string groupDeclaration(const std::string& name) {
 // How emitGroup lays a group out.
 struct GroupLayout {
     bool together = false;  // the groups layout: the group and its rules as one piece, on a copy
-    bool apart = false;     // rules out of line, the group in place (the memory layout's way)
+    bool apart = false;     // rules out of line (PSC_RULE_APART), the group in place
     size_t partBytes = 0;   // together: a larger group is split into parts of at most this much code
     bool inSpan = false;    // together, inlined into a span that holds the copy: the group works in place
+    bool rolledPasses = false;  // the group's passes stay a loop (RuleUnits::rolledPasses)
     // A rule's direction copies as one (emitDirectionSet).  Not in the groups
     // layout: kettle, its one game with a set among the benchmark's, stepped
     // 15 % slower with it, in the same compile units as without: its crates
@@ -821,7 +822,7 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
         return;
     }
     CodeWriter code(indent);
-    emitGroupFunction(code, group, index, late, names, inPlace);
+    emitGroupFunction(code, group, index, late, names, inPlace, layout.rolledPasses);
     Piece function{code.text(), {groupDeclaration(name)}};
     if (layout.together && !layout.apart) {
         Piece piece = join(rules.begin(), rules.end());
@@ -830,8 +831,17 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
         add(std::move(piece), true);
         return;
     }
-    for (auto& rule : rules) add(std::move(rule), false);
-    add(std::move(function), false);
+    if (layout.apart) {
+        for (auto& rule : rules) add(std::move(rule), false);
+        add(std::move(function), false);
+        return;
+    }
+    // The group's rules go to its compile unit, which inlines them (the
+    // memory layout's PSC_RULE, templates/core.h).
+    Piece piece = join(rules.begin(), rules.end());
+    piece.text += function.text;
+    piece.declarations.push_back(function.declarations.front());
+    add(std::move(piece), false);
 }
 
 // The test before a group's call: every board that all its rules need
@@ -1004,9 +1014,10 @@ void emitRules(CodeWriter& out, const Game& game, const RuleUnits& layout, std::
         const size_t number = index + (late ? game.rules.size() : 0);
         GroupLayout groupLayout;
         groupLayout.together = layout.groups;
-        groupLayout.apart = layout.groups && number < layout.apart.size() && layout.apart[number];
+        groupLayout.apart = number < layout.apart.size() && layout.apart[number];
         groupLayout.partBytes = layout.partBytes;
         groupLayout.joinDirections = layout.directionSets && !layout.groups;
+        groupLayout.rolledPasses = layout.rolledPasses;
         const size_t before = pieces.size();
         emitGroup(pieces, inlined, out.indent(), game, group, index, late, groupLayout, used, messages, layersExclusive);
         if (groupBytes) {

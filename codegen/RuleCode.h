@@ -30,9 +30,10 @@ struct RuleUnits {
     // rules, which are inlined into it, and works on a copy of the state.
     // A group of more than partBytes of code passes over parts of its rules
     // instead, each a function on a copy.  A group `apart` (by group, early
-    // then late) goes with its rules to the units after groupUnits, compiled
-    // as the memory layout.  A byte of an inlined group weighs copyWeight when
-    // pieces are spread over units.
+    // then late) goes with its rules to the units after groupUnits, its rules
+    // out of line.  A byte of an inlined group weighs copyWeight when pieces
+    // are spread over units.  Without the groups layout (the memory layout),
+    // a group not `apart` goes to a unit with its rules, inlined into it.
     bool groups = false;
     // Spans (the groups layout of a game without loops, rigid bodies or
     // random): units 1..groupUnits each take a run of consecutive groups,
@@ -48,6 +49,9 @@ struct RuleUnits {
     // except in the groups layout.  Off where code is weighed for the
     // layout: the choice does not depend on them.
     bool directionSets = true;
+    // The memory layout: each group's rules inlined into it, its passes kept
+    // a loop (PSC_PASSES, templates/core.h).  Off where code is weighed.
+    bool rolledPasses = false;
 };
 
 // Emits rule_* and group_* functions and applyEarlyRules/applyLateRules.

@@ -79,7 +79,11 @@
 #define PSC_TURN inline __noinline__
 #define PSC_GROUP_COPIES_STATE 1
 #else
-#define PSC_RULE __noinline__
+// The memory layout: each group a function with its rules inlined (a group
+// and its rules share a compile unit), but for the groups too large to
+// compile so in time, which call their rules (PSC_RULE_APART;
+// kInlinedGroupWeight, codegen/CppSource.cpp).
+#define PSC_RULE __forceinline__
 #define PSC_RULE_APART __noinline__
 #define PSC_GROUP __noinline__
 #define PSC_LAYER inline __noinline__
@@ -130,6 +134,11 @@
 #else
 #define PSC_UNROLL_STATE _Pragma("unroll 1")
 #endif
+// Keeps a rule group's passes a loop (the memory layout's groups,
+// codegen/RuleCode.cpp): NVVM unrolled a small group's loop of up to 200
+// passes, and ptxas took 0.4-1.2 s over each such group of atlas (its rules
+// inlined) against 20-50 ms looped.
+#define PSC_PASSES _Pragma("unroll 1")
 // Movement over whole boards moves a collision layer's objects in a loop over
 // a table of them in the memory layout: atlas's turn unit took half the
 // NVRTC time with its 18-object layer's moves written out, and its steps run
@@ -167,6 +176,7 @@
 #define PSC_TABLE static const
 #define PSC_UNROLL
 #define PSC_UNROLL_STATE
+#define PSC_PASSES
 // Tests build the GPU memory layout's form on the CPU with -DPSC_LAYER_MOVES_ROLLED=1.
 #if !defined(PSC_LAYER_MOVES_ROLLED)
 #define PSC_LAYER_MOVES_ROLLED 0
