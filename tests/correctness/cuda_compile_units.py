@@ -10,7 +10,11 @@ and the level changes it calls in unit 1.
 
 Each game is built with the memory layout (the one whose rules are split)
 and N units (the turn's among them), or fewer where it has fewer rule and
-group functions, and with the registers layout."""
+group functions, and with the registers layout.  The memory layout inlines a
+group's rules into it, unless the group is heavier than kInlinedGroupWeight
+(codegen/CppSource.cpp): the last game, given a level of 5-word boards and a
+group of many rules, must keep that group's rules out of line and the other
+group's rules in its unit, and compile and link."""
 import argparse
 import os
 import re
@@ -124,6 +128,75 @@ def check_registers(psc, game, failures):
         print(f"{os.path.basename(game)}: registers layout in 2 units, unit 1 exports {sorted(exported[1])}")
 
 
+# A group of LONG_GROUP_RULES rules (each in four directions), heavier than
+# kInlinedGroupWeight over 5-word boards; the game's own rules stay a small group.
+LONG_GROUP_RULES = 12
+
+
+def with_long_group_and_large_level(text):
+    """The game `text` with a group of LONG_GROUP_RULES pushes of crate rows added and
+    one level of 20 x 14 cells (300 positions: 5 words a board)."""
+    rules = ["[ > Player" + " | Crate" * (k + 1) + " | no Wall ] -> [ > Player" + " | > Crate" * (k + 1) + " | ]"
+             for k in range(LONG_GROUP_RULES)]
+    group = "\n".join(rules[:1] + ["+ " + r for r in rules[1:]]) + "\n"
+    at = text.index("==============\nWINCONDITIONS")
+    text = text[:at] + group + "\n" + text[at:]
+    rows = ["#" * 20] + ["#" + "." * 18 + "#" for _ in range(12)] + ["#" * 20]
+    rows[6] = "#..P.*.O" + "." * 11 + "#"
+    return text[:text.index("LEVELS")] + "LEVELS\n=======\n\n" + "\n".join(rows) + "\n"
+
+
+def group_units(source):
+    """({rule name: (unit, out of line)}, {group name: (unit, [rules it calls])}) of a memory-layout source."""
+    rules, groups, unit, group = {}, {}, None, None
+    for line in source.splitlines():
+        opened = re.match(r"#if PSC_COMPILES_UNIT\((\d+)\)", line)
+        if opened:
+            unit = int(opened.group(1))
+        elif line.startswith("#endif  // compile unit"):
+            unit = None
+        elif unit is not None:
+            m = re.match(r"^\s*PSC_DEVICE (PSC_RULE|PSC_RULE_APART) bool (\w+)\(Env& e, Turn& t\) \{$", line)
+            if m:
+                rules[m.group(2)] = (unit, m.group(1) == "PSC_RULE_APART")
+            m = re.match(r"^\s*PSC_DEVICE PSC_GROUP bool (\w+)\(Env& env, Turn& turn\) \{$", line)
+            if m:
+                group = m.group(1)
+                groups[group] = (unit, [])
+            elif group and line.strip() == "}":
+                group = None
+            elif group:
+                groups[group][1].extend(re.findall(r"(\w+)\(e, t\)", line))
+    return rules, groups
+
+
+def check_inlined_groups(psc, game, failures):
+    with tempfile.TemporaryDirectory() as work:
+        path = os.path.join(work, "long_group.txt")
+        with open(path, "w") as f:
+            f.write(with_long_group_and_large_level(open(game).read()))
+        base = [psc, path, "--levels", "0", "--gpu-state", "memory"]
+        source = subprocess.run(base + ["--emit", "cuda"], capture_output=True, text=True, timeout=120).stdout
+        if "constexpr int kWords = 5;" not in source:
+            failures.append(f"{game}, long group: expected 5-word boards")
+            return
+        rules, groups = group_units(source)
+        apart = {g for g, (_, called) in groups.items() if any(rules.get(r, (0, False))[1] for r in called)}
+        inlined = {g for g, (_, called) in groups.items() if any(r in rules and not rules[r][1] for r in called)}
+        if len(apart) != 1 or apart & inlined or not inlined:
+            failures.append(f"{game}, long group: expected one group with its rules out of line and the others' "
+                            f"inlined, found out of line {sorted(apart)}, inlined {sorted(inlined)}")
+            return
+        for g, (unit, called) in groups.items():
+            strays = [r for r in called if r in rules and not rules[r][1] and rules[r][0] != unit]
+            if strays:
+                failures.append(f"{game}, long group: {g} (unit {unit}) inlines {strays} from other units")
+        units = int(re.search(r"^#define PSC_COMPILE_UNITS (\d+)", source, re.M).group(1))
+        if linked_units(base, failures, f"{game}, long group", units):
+            print(f"{os.path.basename(game)} with a long group: {sorted(apart)} calls its rules, "
+                  f"{len(inlined)} groups inline theirs, {units} units linked")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("psc")
@@ -134,6 +207,7 @@ def main():
     for game in a.games:
         check(a.psc, game, a.units, failures)
         check_registers(a.psc, game, failures)
+    check_inlined_groups(a.psc, a.games[-1], failures)
     for f in failures:
         print("FAIL", f)
     sys.exit(1 if failures else 0)
