@@ -824,24 +824,17 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
     CodeWriter code(indent);
     emitGroupFunction(code, group, index, late, names, inPlace, layout.rolledPasses);
     Piece function{code.text(), {groupDeclaration(name)}};
-    if (layout.together && !layout.apart) {
-        Piece piece = join(rules.begin(), rules.end());
-        piece.text += function.text;
-        piece.declarations.push_back(function.declarations.front());
-        add(std::move(piece), true);
-        return;
-    }
     if (layout.apart) {
         for (auto& rule : rules) add(std::move(rule), false);
         add(std::move(function), false);
         return;
     }
-    // The group's rules go to its compile unit, which inlines them (the
-    // memory layout's PSC_RULE, templates/core.h).
+    // The group goes to one compile unit with its rules, which it inlines
+    // (PSC_RULE, templates/core.h); in the groups layout, on a copy.
     Piece piece = join(rules.begin(), rules.end());
     piece.text += function.text;
     piece.declarations.push_back(function.declarations.front());
-    add(std::move(piece), false);
+    add(std::move(piece), layout.together);
 }
 
 // The test before a group's call: every board that all its rules need

@@ -49,8 +49,9 @@ struct RuleUnits {
     // except in the groups layout.  Off where code is weighed for the
     // layout: the choice does not depend on them.
     bool directionSets = true;
-    // The memory layout: each group's rules inlined into it, its passes kept
-    // a loop (PSC_PASSES, templates/core.h).  Off where code is weighed.
+    // The memory layout: its groups' passes kept a loop (PSC_PASSES,
+    // templates/core.h).  Off where code is weighed, so that the layout and
+    // its units are chosen on the same code with and without it.
     bool rolledPasses = false;
 };
 
