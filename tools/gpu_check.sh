@@ -33,10 +33,12 @@
 #             BUILD_VARIANTS (lines NAME=PSC) builds each game with every variant in turn, one file each
 #             (buildtime_NAME.txt), so that a slow spell of the host falls on all of them
 #   profile   Nsight Compute on each benchmark game's stepping kernel (PROFILE_BATCH environments, default 131072,
-#             8 steps a launch, level 0): one CSV per game in profile.tar.gz; bench/ncu_table.py makes the table
+#             8 steps a launch, level 0; PROFILE_GAMES names some): one CSV per game in profile.tar.gz, with the
+#             warp state section's summary (cycles a warp waits an instruction); bench/ncu_table.py makes the table
 #   divergence Nsight Compute's source counters of the stepping kernel, SASS instruction by instruction, for each of
 #             DIVERGENCE_GAMES (default all), as profile launches it (built with -lineinfo): divergence.tar.gz;
-#             bench/ncu_divergence.py makes the table
+#             bench/ncu_divergence.py makes the table; GAME_lines.csv has each SASS instruction under the line of
+#             generated source it came from (bench/ncu_lines.py adds them up by line)
 #   multigpu  (several GPUs) python/tests/test_multi_gpu.py; then for each of MULTI_GAMES (game:batches, batches
 #             per GPU) psc bench --devices over 1 and all GPUs (one process), and examples/torchrun_rollout.py
 #             on 1 and all GPUs at the last batch (one process a GPU)
@@ -248,10 +250,10 @@ for stage in "$@"; do
         metrics+=,smsp__sass_average_branch_targets_threads_uniform.pct,smsp__thread_inst_executed_per_inst_executed.ratio
         metrics+=,l1tex__t_bytes_pipe_lsu_mem_local_op_ld.sum,l1tex__t_bytes_pipe_lsu_mem_local_op_st.sum,dram__bytes.sum
         metrics+=,smsp__average_warp_latency_issue_stalled_long_scoreboard.ratio,smsp__average_warp_latency_issue_stalled_barrier.ratio
-        for game in bench/games/*.txt; do
-            name=$(basename "$game" .txt)
+        for name in ${PROFILE_GAMES:-$(basename -s .txt bench/games/*.txt)}; do
+            game=bench/games/$name.txt
             timeout 300 ncu --clock-control none --kernel-name psc_run_kernel --launch-skip 1 --launch-count 1 \
-                --metrics "$metrics" --csv --print-units base \
+                --metrics "$metrics" --section WarpStateStats --csv --print-units base \
                 "$psc" bench "$game" --backend cuda --batch "${PROFILE_BATCH:-131072}" --steps 8 --repeats 1 --warmup 1 \
                 "${fast[@]}" "${state[@]}" > "$out/profile/$name.csv" 2> "$out/profile/$name.err"
             echo "$name: ncu exit $?, $(grep -c psc_run_kernel "$out/profile/$name.csv") metric rows"
@@ -269,6 +271,8 @@ for stage in "$@"; do
             echo "$game: ncu exit $?"
             ncu --import "/tmp/psc-divergence-$game.ncu-rep" --page source --csv --print-source sass \
                 > "$out/divergence/${game}_sass.csv" 2>> "$out/divergence/$game.log"
+            ncu --import "/tmp/psc-divergence-$game.ncu-rep" --page source --csv --print-source cuda,sass \
+                > "$out/divergence/${game}_lines.csv" 2>> "$out/divergence/$game.log"
         done
         tar -czf "$out/divergence.tar.gz" -C "$out" divergence && rm -rf "$out/divergence"
         ;;
