@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -99,7 +100,12 @@ int runReplay(const ReplayOptions& options) {
     }
     try {
         psc_batch_options bo = defaultBatchOptions();
-        bo.undo_depth = kReplayUndoDepth;
+        // An undo history only where the trace undoes: without one, as by the
+        // plugins' default, a turn skips what only the history needs (its
+        // copy of the level, templates/engine.h), so the traces check both.
+        const json& caseInputs = c.at("inputs");
+        const bool undoes = std::any_of(caseInputs.begin(), caseInputs.end(), [](const json& input) { return input == "undo"; });
+        bo.undo_depth = undoes ? kReplayUndoDepth : 0;
         bo.backend = options.backend == "cuda" ? PSC_BACKEND_CUDA : PSC_BACKEND_CPU;
         bo.device = options.device;
         // Under --verbose: where a replay's time goes (a GPU replay steps one

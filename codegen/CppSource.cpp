@@ -255,6 +255,8 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
     out.line(fmt::format("constexpr bool kHasCheckpoint = {};  // a rule can move the restart target",
                          hasCommand(g, "checkpoint")));
     out.line(fmt::format("constexpr bool kHasRestartCommand = {};  // a rule can queue `restart`", hasCommand(g, "restart")));
+    out.line(fmt::format("constexpr bool kHasCancelCommand = {};  // a rule can queue `cancel`", hasCommand(g, "cancel")));
+    out.line(fmt::format("constexpr bool kHasAgainCommand = {};  // a rule can queue `again`", hasCommand(g, "again")));
     out.close("  // namespace psc_game");
     out.line();
 }

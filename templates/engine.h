@@ -283,12 +283,13 @@ struct TurnScratchSlot<true> {
 // The rules of a turn (the reference's processInput up to its command
 // queue): the player's movement, rules, movement resolution with the rigid
 // retry loop, late rules.  dir is 0 up, 1 left, 2 down, 3 right, 4 action,
-// or -1 for none.  `scratch.bak` receives the level as it was.  Returns
-// false when require_player_movement undid the turn.
-PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, TurnScratch& scratch) {
+// or -1 for none.  `scratch.bak` receives the level as it was where the
+// turn keeps it (keepsLevel).  Returns false when require_player_movement
+// undid the turn.
+PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, TurnScratch& scratch, bool keepsLevel) {
     Snapshot& bak = scratch.bak;
     e.againing = 0;
-    saveObjects(e, bak);
+    if (keepsLevel) saveObjects(e, bak);
     if (kHasDormantGroups) scratch.dormantBefore = e.dormant;
     Board playerPositions = Board::zero();
     if (dir >= 0) {
@@ -347,9 +348,9 @@ PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, TurnScratch& scratch) {
 }
 
 // The command queue of the `again` dry run (processInput with dontDoWin and
-// dontModify): it never keeps a change; returns whether another turn would
-// change the level.
-PSC_DEVICE PSC_INLINE bool dryRunCommands(Env& e, UndoStack& u, const TurnScratch& scratch) {
+// dontModify), whose rules `changed` the level or not: it never keeps a
+// change; returns whether another turn would change the level.
+PSC_DEVICE PSC_INLINE bool dryRunCommands(Env& e, UndoStack& u, const TurnScratch& scratch, bool changed) {
     const Snapshot& bak = scratch.bak;
     if (e.queue & kCmdCancel) {
         const bool commandsLeft = popcount(e.queue) > 1;
@@ -357,7 +358,7 @@ PSC_DEVICE PSC_INLINE bool dryRunCommands(Env& e, UndoStack& u, const TurnScratc
         return commandsLeft;
     }
     if (e.queue & kCmdRestart) pushUndo(u, bak);
-    if (!sameObjects(e, bak)) {
+    if (changed) {
         restoreTurnStart(e, scratch);
         return true;
     }
@@ -366,56 +367,6 @@ PSC_DEVICE PSC_INLINE bool dryRunCommands(Env& e, UndoStack& u, const TurnScratc
     e.queue = 0;
     return false;
 }
-
-// A whole turn (the reference's processInput and processCommandQueue, with
-// dontModify false): the rules, then cancel, restart, undo history, the win
-// check, checkpoint, and the dry run that decides whether `again` follows.
-// The dry run goes round the same loop, so the rules are compiled once.
-// Compiled in the turn's unit (PSC_DEFINES_TURN), declared for all.
-PSC_DEVICE PSC_TURN bool playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin);
-#if PSC_DEFINES_TURN
-PSC_DEVICE PSC_TURN bool playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin) {
-    bool dryRun = false;
-    bool modified = false;
-    for (;;) {
-        TurnScratchSlot<> scratch(u);
-        const Snapshot& bak = scratch.s.bak;
-        const bool ruled = runRules(e, dir, scratch.s);
-        if (dryRun) {
-            if (ruled && dryRunCommands(e, u, scratch.s)) e.againing = 1;
-            e.queue = 0;
-            return modified;
-        }
-        if (!ruled) return false;
-        noteShownMessage(e);
-        if (e.queue & kCmdCancel) {
-            const bool commandsLeft = popcount(e.queue) > 1;
-            restoreTurnStart(e, scratch.s);
-            return commandsLeft;
-        }
-        if (kHasRestartCommand && (e.queue & kCmdRestart)) {
-            pushUndo(u, bak);
-            outOfLine(e, u, [](Env& m, UndoStack& mu) { doRestart(m, mu, true); });
-        }
-        modified = !sameObjects(e, bak);
-        if (modified && dir != -1) pushUndo(u, bak);
-        if (!e.textMode) checkWin(e, u, dontDoWin);
-        if (e.queue & kCmdCheckpoint) saveObjects(e, e.restartTarget);
-        if (!((e.queue & kCmdAgain) && modified)) break;
-        dryRun = true;
-        dir = -1;
-    }
-    e.queue = 0;
-    return modified;
-}
-#endif
-
-PSC_DEVICE PSC_COLD void coldTurn(Env& e, UndoStack& u, bool dontDoWin) { playTurn(e, u, -1, dontDoWin); }
-
-// ---- inputs, as the reference's test harness gives them
-
-enum Input { kInputUp = 0, kInputLeft, kInputDown, kInputRight, kInputAction, kInputUndo, kInputRestart, kInputTick };
-inline constexpr int kInputCount = 8;
 
 // Turns of an `again` chain run within one input; a chain that never ends
 // (an animation loop) is cut off here.
@@ -450,6 +401,89 @@ PSC_DEVICE PSC_INLINE bool chainPastDeadline(const UndoStack& u, int turns) {
 // which draws each turn).
 enum AgainMode { kAgainSettle = 0, kAgainOneTurn = 1 };
 
+// An again turn repeats its dry run exactly where nothing but the level
+// decides what rules do: no random stream (which the dry run advanced) and no
+// movements left between turns (which restoring the level clears).
+constexpr bool kDryRunRepeatsTurn = !PSC_USES_RANDOM && !kMovementsCanLinger;
+
+// Whether an input's again chain keeps its dry run's result as the again
+// turn that follows, instead of undoing it and playing the turn: the dry run
+// changed the level and queued neither cancel nor restart (the again turn
+// plays on from it), and playInput would run that turn (the chain settles
+// within the input and is not cut off after againTurns turns).
+PSC_DEVICE PSC_INLINE bool keepsDryRun(const Env& e, const UndoStack& u, bool changed, int againTurns) {
+    if (!kDryRunRepeatsTurn || !changed || e.againMode == kAgainOneTurn || (e.stopOnWin && e.wins)) return false;
+    if (e.queue & (kCmdCancel | kCmdRestart)) return false;
+    return againTurns < kMaxAgainTurns && !chainPastDeadline(u, againTurns);
+}
+
+// What a turn needs the level as it found it for, whatever its input: a
+// cancel or the again dry run restores it, require_player_movement too, a
+// restart command's undo entry is it, the rigid retry starts from it.  Beyond
+// these only an input's undo entry does, so a turn of a game without them,
+// with no undo history (psc_batch_options.undo_depth 0, the default), neither
+// copies the level nor compares it with the copy.
+constexpr bool kTurnMayRestoreLevel =
+    kHasCancelCommand || kHasAgainCommand || kRequirePlayerMovement || kHasRestartCommand || PSC_HAS_RIGID;
+
+// A whole turn (the reference's processInput and processCommandQueue, with
+// dontModify false): the rules, then cancel, restart, undo history, the win
+// check, checkpoint, and the dry run that decides whether `again` follows.
+// The dry run goes round the same loop, so the rules are compiled once.
+// Compiled in the turn's unit (PSC_DEFINES_TURN), declared for all.
+//
+// Within an input's again chain (againTurns, playInput's count of its
+// turns; null elsewhere), a dry run whose rules changed the level becomes the
+// again turn it foretells (keepsDryRun), which the chain would run next from
+// the same level with the same rules.
+PSC_DEVICE PSC_TURN void playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin, int* againTurns);
+#if PSC_DEFINES_TURN
+PSC_DEVICE PSC_TURN void playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin, int* againTurns) {
+    bool dryRun = false;
+    for (;;) {
+        TurnScratchSlot<> scratch(u);
+        const Snapshot& bak = scratch.s.bak;
+        const bool keepsLevel = kTurnMayRestoreLevel || (dir != -1 && u.capacity > 0);
+        const bool ruled = runRules(e, dir, scratch.s, keepsLevel);
+        if (dryRun) {
+            const bool changed = ruled && !sameObjects(e, bak);
+            if (!ruled || !againTurns || !keepsDryRun(e, u, changed, *againTurns)) {
+                if (ruled && dryRunCommands(e, u, scratch.s, changed)) e.againing = 1;
+                e.queue = 0;
+                return;
+            }
+            ++*againTurns;
+        }
+        if (!ruled) return;
+        noteShownMessage(e);
+        if (e.queue & kCmdCancel) {
+            restoreTurnStart(e, scratch.s);
+            return;
+        }
+        if (kHasRestartCommand && (e.queue & kCmdRestart)) {
+            pushUndo(u, bak);
+            outOfLine(e, u, [](Env& m, UndoStack& mu) { doRestart(m, mu, true); });
+        }
+        // A dry run kept has changed the level; without a copy, nothing asks.
+        const bool modified = dryRun || (keepsLevel && !sameObjects(e, bak));
+        if (modified && dir != -1) pushUndo(u, bak);
+        if (!e.textMode) checkWin(e, u, dontDoWin);
+        if (e.queue & kCmdCheckpoint) saveObjects(e, e.restartTarget);
+        if (!((e.queue & kCmdAgain) && modified)) break;
+        dryRun = true;
+        dir = -1;
+    }
+    e.queue = 0;
+}
+#endif
+
+PSC_DEVICE PSC_COLD void coldTurn(Env& e, UndoStack& u, bool dontDoWin) { playTurn(e, u, -1, dontDoWin, nullptr); }
+
+// ---- inputs, as the reference's test harness gives them
+
+enum Input { kInputUp = 0, kInputLeft, kInputDown, kInputRight, kInputAction, kInputUndo, kInputRestart, kInputTick };
+inline constexpr int kInputCount = 8;
+
 // The undo and restart inputs' own work, before the turns of their `again`
 // chains (playInput).
 PSC_DEVICE PSC_COLD void undoOrRestart(Env& e, UndoStack& u, int input) {
@@ -471,7 +505,7 @@ PSC_DEVICE PSC_INPUT bool playInput(Env& e, UndoStack& u, int input) {
         dir = -1;
     }
     for (int turns = 0;; ++turns) {
-        if (play) playTurn(e, u, dir, false);
+        if (play) playTurn(e, u, dir, false, &turns);
         if (!e.againing || (e.stopOnWin && e.wins) || e.againMode == kAgainOneTurn) return true;
         if (turns >= kMaxAgainTurns || chainPastDeadline(u, turns)) {
             e.againing = 0;
