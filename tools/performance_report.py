@@ -5,13 +5,18 @@ steps/s on one thread of the development machine, the ratio, PuzzleJAX's
 figure and the ratio to it, and the cold build of its CUDA plugin; then the
 geometric means against issue 18's bars.
 
-  tools/performance_report.py --psc PSC --gpu-bench DIR [DIR ...] --cpu-bench MD [MD ...] --buildtime TXT
+  tools/performance_report.py --psc PSC --gpu-bench DIR [DIR ...] --cpu-bench MD [MD ...]
+      [--cpu-before MD ... --cpu-after MD ...] --buildtime TXT
 
 Each DIR holds `tools/gpu_check.sh bench`'s outputs (GAME.txt); a game's
 figures come from the last DIR that has it.  Each MD is a `bench/cpu_bench.sh`
 table (the best figure of a game over the files counts: the development
 machine's speed varies by half between runs, and a slower run would flatter
-the ratio), TXT `tools/gpu_check.sh buildtime`'s output (its default,
+the ratio).  Where the CPU code changed since those runs, --cpu-before and
+--cpu-after name tables of the older and the newer psc run in turn on one
+day: each game's figure is scaled by the median of the newer runs over the
+median of the older ones, so that the day's speed cancels out.  TXT is
+`tools/gpu_check.sh buildtime`'s output (its default,
 parallel builds: each game's range over its repeats; the bars take each
 game's median and the slowest single build).  A game's layout is the one
 PSC generates for its level 0 (`--emit cuda`)."""
@@ -48,12 +53,23 @@ def layout(psc, game):
     return f"{'groups' if define('PSC_STATE_IN_GROUPS') else 'memory'}, {units} units"
 
 
+def cpu_tables(paths):
+    return [{m.group(1): float(m.group(2)) for m in re.finditer(r"^\| (\w+) \| ([\d.]+) \|", open(path).read(), re.M)}
+            for path in paths]
+
+
 def cpu_bench(paths):
     best = {}
-    for path in paths:
-        for m in re.finditer(r"^\| (\w+) \| ([\d.]+) \|", open(path).read(), re.M):
-            best[m.group(1)] = max(best.get(m.group(1), 0.0), float(m.group(2)))
+    for table in cpu_tables(paths):
+        for game, rate in table.items():
+            best[game] = max(best.get(game, 0.0), rate)
     return best
+
+
+def cpu_change(before_paths, after_paths):
+    """Each game's CPU speed-up from the older psc to the newer, runs of one day."""
+    before, after = cpu_tables(before_paths), cpu_tables(after_paths)
+    return {g: median(t[g] for t in after) / median(t[g] for t in before) for g in before[0]}
 
 
 def build_times(path):
@@ -84,9 +100,14 @@ def main():
     ap.add_argument("--games", default="bench/games", help="the benchmark games' folder")
     ap.add_argument("--gpu-bench", nargs="+", required=True, help="psc bench outputs (GAME.txt) or folders of them; a later one of a game wins")
     ap.add_argument("--cpu-bench", nargs="+", required=True)
+    ap.add_argument("--cpu-before", nargs="+", default=[])
+    ap.add_argument("--cpu-after", nargs="+", default=[])
     ap.add_argument("--buildtime", required=True)
     a = ap.parse_args()
     cpu = cpu_bench(a.cpu_bench)
+    if a.cpu_before or a.cpu_after:
+        change = cpu_change(a.cpu_before, a.cpu_after)
+        cpu = {g: rate * change[g] for g, rate in cpu.items()}
     builds = build_times(a.buildtime)
     bench = {}
     for path in a.gpu_bench:
