@@ -401,6 +401,14 @@ PSC_DEVICE PSC_INLINE bool chainPastDeadline(const UndoStack& u, int turns) {
 // which draws each turn).
 enum AgainMode { kAgainSettle = 0, kAgainOneTurn = 1 };
 
+// An input's again chain ends, settled, before the again turn due: a turn a
+// step leaves it to the next step, and an episode that stops on a win ends.
+PSC_DEVICE PSC_INLINE bool chainEndsHere(const Env& e) { return e.againMode == kAgainOneTurn || (e.stopOnWin && e.wins); }
+// The chain is cut off after `turns` turns: too long, or past the deadline.
+PSC_DEVICE PSC_INLINE bool chainCutOff(const UndoStack& u, int turns) {
+    return turns >= kMaxAgainTurns || chainPastDeadline(u, turns);
+}
+
 // An again turn repeats its dry run exactly where nothing but the level
 // decides what rules do: no random stream (which the dry run advanced) and no
 // movements left between turns (which restoring the level clears).
@@ -412,9 +420,8 @@ constexpr bool kDryRunRepeatsTurn = !PSC_USES_RANDOM && !kMovementsCanLinger;
 // plays on from it), and playInput would run that turn (the chain settles
 // within the input and is not cut off after againTurns turns).
 PSC_DEVICE PSC_INLINE bool keepsDryRun(const Env& e, const UndoStack& u, bool changed, int againTurns) {
-    if (!kDryRunRepeatsTurn || !changed || e.againMode == kAgainOneTurn || (e.stopOnWin && e.wins)) return false;
-    if (e.queue & (kCmdCancel | kCmdRestart)) return false;
-    return againTurns < kMaxAgainTurns && !chainPastDeadline(u, againTurns);
+    if (!kDryRunRepeatsTurn || !changed || (e.queue & (kCmdCancel | kCmdRestart))) return false;
+    return !chainEndsHere(e) && !chainCutOff(u, againTurns);
 }
 
 // What a turn needs the level as it found it for, whatever its input: a
@@ -506,8 +513,8 @@ PSC_DEVICE PSC_INPUT bool playInput(Env& e, UndoStack& u, int input) {
     }
     for (int turns = 0;; ++turns) {
         if (play) playTurn(e, u, dir, false, &turns);
-        if (!e.againing || (e.stopOnWin && e.wins) || e.againMode == kAgainOneTurn) return true;
-        if (turns >= kMaxAgainTurns || chainPastDeadline(u, turns)) {
+        if (!e.againing || chainEndsHere(e)) return true;
+        if (chainCutOff(u, turns)) {
             e.againing = 0;
             return false;
         }
