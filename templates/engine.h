@@ -442,7 +442,9 @@ constexpr bool kTurnMayRestoreLevel =
 // Within an input's again chain (againTurns, playInput's count of its
 // turns; null elsewhere), a dry run whose rules changed the level becomes the
 // again turn it foretells (keepsDryRun), which the chain would run next from
-// the same level with the same rules.
+// the same level with the same rules.  Commands no rule of the game queues
+// are not looked for (kHasCancelCommand, kHasCheckpoint, kHasAgainCommand),
+// so that a game without `again` compiles no dry run.
 PSC_DEVICE PSC_TURN void playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin, int* againTurns);
 #if PSC_DEFINES_TURN
 PSC_DEVICE PSC_TURN void playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin, int* againTurns) {
@@ -463,7 +465,7 @@ PSC_DEVICE PSC_TURN void playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin,
         }
         if (!ruled) return;
         noteShownMessage(e);
-        if (e.queue & kCmdCancel) {
+        if (kHasCancelCommand && (e.queue & kCmdCancel)) {
             restoreTurnStart(e, scratch.s);
             return;
         }
@@ -475,8 +477,8 @@ PSC_DEVICE PSC_TURN void playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin,
         const bool modified = dryRun || (keepsLevel && !sameObjects(e, bak));
         if (modified && dir != -1) pushUndo(u, bak);
         if (!e.textMode) checkWin(e, u, dontDoWin);
-        if (e.queue & kCmdCheckpoint) saveObjects(e, e.restartTarget);
-        if (!((e.queue & kCmdAgain) && modified)) break;
+        if (kHasCheckpoint && (e.queue & kCmdCheckpoint)) saveObjects(e, e.restartTarget);
+        if (!kHasAgainCommand || !((e.queue & kCmdAgain) && modified)) break;
         dryRun = true;
         dir = -1;
     }
