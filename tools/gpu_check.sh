@@ -17,8 +17,9 @@
 #   search    breadth-first and beam search with their states on the GPU against the host's
 #             (tests/search/device_search_test.py, SEARCH_SECONDS a level, default 20)
 #   scale     one search on the GPU of each of SCALE_LEVELS (game:level, default notsnake:0 zenpuzzle:0
-#             limerick:6 atlas:8) for SCALE_SECONDS (default 60), SCALE_ALGORITHM (default bfs), its JSON
-#             record and progress lines kept: the whole search's rate and its largest store
+#             limerick:6 atlas:8) for SCALE_SECONDS (default 60), SCALE_ALGORITHM (default bfs), with
+#             SCALE_OPTIONS (more psc solve options, such as --beam-width 131072), its JSON record and
+#             progress lines kept, named with SCALE_TAG where set: the whole search's rate and its largest store
 #   solve     psc solve --backend cuda over every level of the benchmark games (bench/solve_report.py),
 #             SOLVE_ALGORITHM (default portfolio), SOLVE_SECONDS a level (default 60), SOLVE_JOBS games at once,
 #             SOLVE_PER_LEVEL=1 a psc solve (and plugin) per level
@@ -183,11 +184,12 @@ for stage in "$@"; do
         for spec in ${SCALE_LEVELS:-notsnake:0 zenpuzzle:0 limerick:6 atlas:8}; do
             name=${spec%:*}
             level=${spec#*:}
+            run="$out/scale/$name.L$level${SCALE_TAG:+.$SCALE_TAG}"
             "$psc" solve "bench/games/$name.txt" --level "$level" --backend cuda --algorithm "${SCALE_ALGORITHM:-bfs}" \
-                --time-limit "${SCALE_SECONDS:-60}" --format json > "$out/scale/$name.L$level.json" 2> "$out/scale/$name.L$level.progress"
-            tr '\r' '\n' < "$out/scale/$name.L$level.progress" | grep -v '^$' > "$out/scale/$name.L$level.lines"
-            mv "$out/scale/$name.L$level.lines" "$out/scale/$name.L$level.progress"
-            echo "$name level $level: $(cat "$out/scale/$name.L$level.json") $(tail -1 "$out/scale/$name.L$level.progress")"
+                --time-limit "${SCALE_SECONDS:-60}" ${SCALE_OPTIONS:-} --format json > "$run.json" 2> "$run.progress"
+            tr '\r' '\n' < "$run.progress" | grep -v '^$' > "$run.lines"
+            mv "$run.lines" "$run.progress"
+            echo "$name level $level${SCALE_TAG:+ ($SCALE_TAG)}: $(cat "$run.json") $(tail -1 "$run.progress")"
         done
         ;;
     solve)
