@@ -25,6 +25,10 @@ row() {  # row PSC GAME
 }
 
 if [ "${1:-}" = --pairs ]; then
+    if [ $# -ne 5 ] || [[ ! $2 =~ ^[1-9][0-9]*$ ]] || [[ $4 != *:* ]] || [[ $5 != *:* ]]; then
+        echo "usage: bench/cpu_bench.sh --pairs RUNS DIR OLD_PSC:OLD_NAME NEW_PSC:NEW_NAME" >&2
+        exit 2
+    fi
     runs=$2 dir=$3
     mkdir -p "$dir"
     for i in $(seq "$runs"); do

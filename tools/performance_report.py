@@ -104,6 +104,8 @@ def main():
     ap.add_argument("--cpu-after", nargs="+", default=[])
     ap.add_argument("--buildtime", required=True)
     a = ap.parse_args()
+    if bool(a.cpu_before) != bool(a.cpu_after):
+        ap.error("--cpu-before and --cpu-after go together")
     cpu = cpu_bench(a.cpu_bench)
     if a.cpu_before or a.cpu_after:
         change = cpu_change(a.cpu_before, a.cpu_after)
