@@ -99,6 +99,17 @@ def test_games_without_rule_messages_report_none(sokoban_plugin):
     assert list(results["message"]) == [-1, -1] and list(results["againing"]) == [0, 0]
 
 
+def test_step_results_reserved_bytes_are_zero(kick_plugin, sokoban_plugin):
+    # psc_plugin.h promises zeros there, so that a later ABI can give them a meaning.
+    for plugin in (kick_plugin, psc.Plugin(sokoban_plugin)):
+        for mode in (_abi.AGAIN_SETTLE, _abi.AGAIN_ONE_TURN):
+            batch = Batch(plugin, 3, _abi.BACKEND_CPU, 1, 10, _abi.AUTO_RESET_SAME_STEP, 0, again_mode=mode)
+            batch.reset([0, 1, 0], [0, 0, 0])
+            for action in (RIGHT, RIGHT, UP, UNDO, LEFT, TICK):
+                results = batch.step([action] * 3)
+                assert results["reserved"].tolist() == [[0, 0, 0]] * 3, (mode, action)
+
+
 def test_an_unknown_again_mode_is_refused(kick_plugin):
     with pytest.raises(psc.PscError, match="again_mode"):
         Batch(kick_plugin, 1, _abi.BACKEND_CPU, 1, 0, _abi.AUTO_RESET_OFF, 0, again_mode=2)

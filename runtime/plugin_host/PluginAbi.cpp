@@ -300,7 +300,7 @@ PSC_API int psc_step(psc_batch* batch, const int32_t* actions, psc_step_result* 
     if (batch->cuda) return cudaStep(batch, actions, results);
     const GameModule& g = game();
     batch->pool->run(batch->numEnvs, [&](int begin, int end) {
-        psc_step_result r;
+        psc_step_result r{};
         for (int i = begin; i < end; ++i) {
             g.step(batch->env(i), &batch->undo[static_cast<size_t>(i)], actions[i], &r);
             if (results) results[i] = r;
@@ -336,7 +336,7 @@ PSC_API int psc_step_buffers(psc_batch* batch) {
     const GameModule& g = game();
     const size_t perEnv = observationBytes();
     batch->pool->run(batch->numEnvs, [&](int begin, int end) {
-        psc_step_result r;
+        psc_step_result r{};
         for (int i = begin; i < end; ++i) {
             g.step(batch->env(i), &batch->undo[static_cast<size_t>(i)], batch->actions[i], &r);
             batch->rewards[i] = r.reward;
