@@ -134,6 +134,7 @@ def test_cuda_batches_step_turns_and_messages_as_the_cpu():
             got, want = cuda.step([action, action]), cpu.step([action, action])
             for field in ("won", "againing", "message", "reward"):
                 assert list(got[field]) == list(want[field]), (mode, action, field)
+            assert got["reserved"].tolist() == [[0, 0, 0]] * 2, (mode, action)
             assert np.array_equal(cuda.observe(), cpu.observe())
 
 
