@@ -9,12 +9,13 @@
 # for each build, the tables tools/performance_report.py's --cpu-before and
 # --cpu-after read.
 #   bench/cpu_bench.sh --pairs RUNS DIR OLD_PSC:OLD_NAME NEW_PSC:NEW_NAME
+# GAMES (names, space-separated) limits either form to some games.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 declare -A js=([sokoban]=160000 [traveling]=156000 [notsnake]=134000 [match3]=111000 [slidings]=107000
                [dictionary]=101000 [takeheart]=70000 [zenpuzzle]=64000 [blocks]=64000 [constellationz]=46000
                [limerick]=37000 [kettle]=35000 [atlas]=26000)
-games="sokoban traveling notsnake match3 slidings dictionary takeheart zenpuzzle blocks constellationz limerick kettle atlas"
+games=${GAMES:-"sokoban traveling notsnake match3 slidings dictionary takeheart zenpuzzle blocks constellationz limerick kettle atlas"}
 header='| game | psc CPU steps/s (batch 1, 1 thread) | JS engine steps/s | ratio |\n|---|---:|---:|---:|\n'
 
 row() {  # row PSC GAME

@@ -352,18 +352,18 @@ PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, TurnScratch& scratch, bool 
 // change; returns whether another turn would change the level.
 PSC_DEVICE PSC_INLINE bool dryRunCommands(Env& e, UndoStack& u, const TurnScratch& scratch, bool changed) {
     const Snapshot& bak = scratch.bak;
-    if (e.queue & kCmdCancel) {
+    if (kHasCancelCommand && (e.queue & kCmdCancel)) {
         const bool commandsLeft = popcount(e.queue) > 1;
         restoreTurnStart(e, scratch);
         return commandsLeft;
     }
-    if (e.queue & kCmdRestart) pushUndo(u, bak);
+    if (kHasRestartCommand && (e.queue & kCmdRestart)) pushUndo(u, bak);
     if (changed) {
         restoreTurnStart(e, scratch);
         return true;
     }
     if (e.queue & (kCmdWin | kCmdRestart)) return true;
-    if (e.queue & kCmdCheckpoint) saveObjects(e, e.restartTarget);
+    if (kHasCheckpoint && (e.queue & kCmdCheckpoint)) saveObjects(e, e.restartTarget);
     e.queue = 0;
     return false;
 }
@@ -420,7 +420,8 @@ constexpr bool kDryRunRepeatsTurn = !PSC_USES_RANDOM && !kMovementsCanLinger;
 // plays on from it), and playInput would run that turn (the chain settles
 // within the input and is not cut off after againTurns turns).
 PSC_DEVICE PSC_INLINE bool keepsDryRun(const Env& e, const UndoStack& u, bool changed, int againTurns) {
-    if (!kDryRunRepeatsTurn || !changed || (e.queue & (kCmdCancel | kCmdRestart))) return false;
+    if (!kDryRunRepeatsTurn || !changed) return false;
+    if ((kHasCancelCommand && (e.queue & kCmdCancel)) || (kHasRestartCommand && (e.queue & kCmdRestart))) return false;
     return !chainEndsHere(e) && !chainCutOff(u, againTurns);
 }
 
@@ -471,7 +472,12 @@ PSC_DEVICE PSC_TURN void playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin,
         }
         if (kHasRestartCommand && (e.queue & kCmdRestart)) {
             pushUndo(u, bak);
-            outOfLine(e, u, [](Env& m, UndoStack& mu) { doRestart(m, mu, true); });
+            // Where the restart runs no level-start turn and no again turn
+            // or restart is under way, it only puts the restart target back:
+            // done here, it spares the state in registers the trip through
+            // memory that outOfLine takes (slidings restarts every few turns).
+            if (!kRunRulesOnLevelStart && !e.againing && !e.restarting) restoreLevel(e, e.restartTarget);
+            else outOfLine(e, u, [](Env& m, UndoStack& mu) { doRestart(m, mu, true); });
         }
         // A dry run kept has changed the level; without a copy, nothing asks.
         const bool modified = dryRun || (keepsLevel && !sameObjects(e, bak));

@@ -100,16 +100,18 @@ def main():
     ap.add_argument("--games", default="bench/games", help="the benchmark games' folder")
     ap.add_argument("--gpu-bench", nargs="+", required=True, help="psc bench outputs (GAME.txt) or folders of them; a later one of a game wins")
     ap.add_argument("--cpu-bench", nargs="+", required=True)
-    ap.add_argument("--cpu-before", nargs="+", default=[])
-    ap.add_argument("--cpu-after", nargs="+", default=[])
+    ap.add_argument("--cpu-before", nargs="+", action="append", default=[],
+                    help="cpu_bench tables of an older psc; with --cpu-after, each game's CPU figure is scaled by "
+                         "the change between them; given again, by each pair's in turn (a game missing from a pair: 1)")
+    ap.add_argument("--cpu-after", nargs="+", action="append", default=[])
     ap.add_argument("--buildtime", required=True)
     a = ap.parse_args()
-    if bool(a.cpu_before) != bool(a.cpu_after):
-        ap.error("--cpu-before and --cpu-after go together")
+    if len(a.cpu_before) != len(a.cpu_after):
+        ap.error("--cpu-before and --cpu-after go together, once each per pair")
     cpu = cpu_bench(a.cpu_bench)
-    if a.cpu_before or a.cpu_after:
-        change = cpu_change(a.cpu_before, a.cpu_after)
-        cpu = {g: rate * change[g] for g, rate in cpu.items()}
+    for before, after in zip(a.cpu_before, a.cpu_after):
+        change = cpu_change(before, after)
+        cpu = {g: rate * change.get(g, 1.0) for g, rate in cpu.items()}
     builds = build_times(a.buildtime)
     bench = {}
     for path in a.gpu_bench:
