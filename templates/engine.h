@@ -347,23 +347,37 @@ PSC_DEVICE PSC_INLINE bool runRules(Env& e, int dir, TurnScratch& scratch, bool 
     return true;
 }
 
+// Whether one of `kCommands` is queued this turn.  A turn looks only for the
+// commands a rule of the game can queue (kHasCancelCommand,
+// kHasRestartCommand, kHasCheckpoint, kHasAgainCommand): a game without
+// `again` compiles no dry run, one without `cancel`, `restart` or
+// `checkpoint` no test for them.
+template <u32 kCommands>
+PSC_DEVICE PSC_INLINE bool queued(const Env& e) {
+    constexpr u32 kUnqueueable = (kHasCancelCommand ? 0u : u32{kCmdCancel}) | (kHasRestartCommand ? 0u : u32{kCmdRestart}) |
+                                 (kHasCheckpoint ? 0u : u32{kCmdCheckpoint}) | (kHasAgainCommand ? 0u : u32{kCmdAgain});
+    constexpr u32 kLooked = kCommands & ~kUnqueueable;
+    if constexpr (kLooked == 0) return false;
+    else return (e.queue & kLooked) != 0;
+}
+
 // The command queue of the `again` dry run (processInput with dontDoWin and
 // dontModify), whose rules `changed` the level or not: it never keeps a
 // change; returns whether another turn would change the level.
 PSC_DEVICE PSC_INLINE bool dryRunCommands(Env& e, UndoStack& u, const TurnScratch& scratch, bool changed) {
     const Snapshot& bak = scratch.bak;
-    if (kHasCancelCommand && (e.queue & kCmdCancel)) {
+    if (queued<kCmdCancel>(e)) {
         const bool commandsLeft = popcount(e.queue) > 1;
         restoreTurnStart(e, scratch);
         return commandsLeft;
     }
-    if (kHasRestartCommand && (e.queue & kCmdRestart)) pushUndo(u, bak);
+    if (queued<kCmdRestart>(e)) pushUndo(u, bak);
     if (changed) {
         restoreTurnStart(e, scratch);
         return true;
     }
-    if (e.queue & (kCmdWin | kCmdRestart)) return true;
-    if (kHasCheckpoint && (e.queue & kCmdCheckpoint)) saveObjects(e, e.restartTarget);
+    if (queued<kCmdWin | kCmdRestart>(e)) return true;
+    if (queued<kCmdCheckpoint>(e)) saveObjects(e, e.restartTarget);
     e.queue = 0;
     return false;
 }
@@ -420,8 +434,7 @@ constexpr bool kDryRunRepeatsTurn = !PSC_USES_RANDOM && !kMovementsCanLinger;
 // plays on from it), and playInput would run that turn (the chain settles
 // within the input and is not cut off after againTurns turns).
 PSC_DEVICE PSC_INLINE bool keepsDryRun(const Env& e, const UndoStack& u, bool changed, int againTurns) {
-    if (!kDryRunRepeatsTurn || !changed) return false;
-    if ((kHasCancelCommand && (e.queue & kCmdCancel)) || (kHasRestartCommand && (e.queue & kCmdRestart))) return false;
+    if (!kDryRunRepeatsTurn || !changed || queued<kCmdCancel | kCmdRestart>(e)) return false;
     return !chainEndsHere(e) && !chainCutOff(u, againTurns);
 }
 
@@ -444,8 +457,7 @@ constexpr bool kTurnMayRestoreLevel =
 // turns; null elsewhere), a dry run whose rules changed the level becomes the
 // again turn it foretells (keepsDryRun), which the chain would run next from
 // the same level with the same rules.  Commands no rule of the game queues
-// are not looked for (kHasCancelCommand, kHasCheckpoint, kHasAgainCommand),
-// so that a game without `again` compiles no dry run.
+// are not looked for (queued).
 PSC_DEVICE PSC_TURN void playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin, int* againTurns);
 #if PSC_DEFINES_TURN
 PSC_DEVICE PSC_TURN void playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin, int* againTurns) {
@@ -466,11 +478,11 @@ PSC_DEVICE PSC_TURN void playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin,
         }
         if (!ruled) return;
         noteShownMessage(e);
-        if (kHasCancelCommand && (e.queue & kCmdCancel)) {
+        if (queued<kCmdCancel>(e)) {
             restoreTurnStart(e, scratch.s);
             return;
         }
-        if (kHasRestartCommand && (e.queue & kCmdRestart)) {
+        if (queued<kCmdRestart>(e)) {
             pushUndo(u, bak);
             // Where the restart runs no level-start turn and no again turn
             // or restart is under way, it only puts the restart target back:
@@ -483,8 +495,8 @@ PSC_DEVICE PSC_TURN void playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin,
         const bool modified = dryRun || (keepsLevel && !sameObjects(e, bak));
         if (modified && dir != -1) pushUndo(u, bak);
         if (!e.textMode) checkWin(e, u, dontDoWin);
-        if (kHasCheckpoint && (e.queue & kCmdCheckpoint)) saveObjects(e, e.restartTarget);
-        if (!kHasAgainCommand || !((e.queue & kCmdAgain) && modified)) break;
+        if (queued<kCmdCheckpoint>(e)) saveObjects(e, e.restartTarget);
+        if (!(queued<kCmdAgain>(e) && modified)) break;
         dryRun = true;
         dir = -1;
     }
