@@ -159,7 +159,7 @@ for stage in "$@"; do
     python)
         export PYTHONUNBUFFERED=1
         $python examples/gpu_zero_copy.py --plugin out/python-gpu/gems.so 2>&1 | tee "$out/python_zero_copy.txt"
-        PSC_CUDA_PLUGIN=out/python-gpu/gems.so $python -m pytest python/tests/test_cuda.py -v -rs -p no:cacheprovider \
+        PSC_CUDA_PLUGIN=out/python-gpu/gems.so PSC_BINARY="$psc" $python -m pytest python/tests/test_cuda.py -v -rs -p no:cacheprovider \
             2>&1 | tee "$out/python_test_cuda.txt" | tail -15
         $python examples/ppo.py --plugin out/python-gpu/sokoban.so --csv "$out/ppo_log.csv" \
             --time-limit "${PPO_SECONDS:-170}" 2>&1 | tee "$out/ppo.txt" | tail -8

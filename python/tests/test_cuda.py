@@ -7,6 +7,7 @@ psc compiler with CUDA here (then games/gems.txt is built with --target all).
 Every check compares the CUDA batch with a CPU batch of the same plugin.
 """
 
+import contextlib
 import os
 
 import numpy as np
@@ -31,17 +32,23 @@ def plugin() -> str:
     return path
 
 
-@pytest.fixture
-def pair(plugin):
-    """A CUDA batch and a CPU batch of the same plugin, reset alike."""
+@contextlib.contextmanager
+def cuda_and_cpu(plugin, seed):
+    """A CUDA batch and a CPU batch of the same plugin over its playable levels, reset alike."""
     playable = psc.Plugin(plugin).playable_levels()
     levels = [playable[i % len(playable)] for i in range(NUM_ENVS)]
     with psc.VectorEnv(plugin, NUM_ENVS, backend="cuda", levels=levels) as cuda, psc.VectorEnv(
         plugin, NUM_ENVS, backend="cpu", levels=levels
     ) as cpu:
-        cuda.reset(seed=11)
-        cpu.reset(seed=11)
+        cuda.reset(seed=seed)
+        cpu.reset(seed=seed)
         yield cuda, cpu
+
+
+@pytest.fixture
+def pair(plugin):
+    with cuda_and_cpu(plugin, 11) as both:
+        yield both
 
 
 def random_actions(cpu_env, rng):
@@ -132,6 +139,19 @@ def test_state_records_and_saved_states_agree(pair):
     cuda.step(random_actions(cpu, rng))
     cuda.restore_state(0, saved)
     assert cuda.dump_state(0) == cpu.dump_state(0)
+
+
+@pytest.mark.parametrize("game", ["kick.txt", "ice.txt", "gems.txt"])
+def test_fused_rollouts_agree_with_the_cpu_backend(game):
+    """psc_rollout runs hundreds of steps a launch on the GPU, through `again`
+    chains (kick rolls its ball a cell per again turn, ice slides by again),
+    auto-resets and the GPU's own movement resolution; each environment must
+    end where the CPU's rollout leaves it, launch after launch."""
+    with cuda_and_cpu(psc.compile(GAMES / game, target="all"), 5) as (cuda, cpu):
+        for seed, steps in ((1, 300), (2, 7)):
+            assert cuda.random_rollout(steps, seed) == cpu.random_rollout(steps, seed)
+            for i in range(NUM_ENVS):
+                assert cuda.dump_state(i) == cpu.dump_state(i), f"environment {i} after rollout {seed}"
 
 
 def test_a_torch_view_outlives_close(plugin):
