@@ -148,6 +148,24 @@ PSC_DEVICE PSC_INLINE bool resolveMovementsAtOnce(Env& e) {
 }
 
 PSC_DEVICE PSC_INLINE bool resolveMovements(Env& e, Turn& t) {
+    // A turn whose rules left no movement has nothing to move, ban or
+    // clear: limerick's rules take every movement off its player, and an
+    // `again` turn or dry run takes no input.  Over the GPU's local memory the
+    // tests and the clearing below read a layer's five boards several times
+    // and wrote them once (limerick 1.16x, kettle 1.04x, slidings 1.05x on
+    // one H200).  With the state in registers they cost little and the test
+    // costs registers (constellationz, whose every turn moves, 0.88x), so
+    // there only games with `again` test; on one CPU thread the passes below
+    // cost little too and the test did not pay (constellationz 0.93x).  The
+    // tests' CPU build of the GPU's movement (PSC_MOVE_OVER_BOARDS) tests.
+#if defined(__CUDA_ARCH__) && PSC_STATE_IN_REGISTERS
+    constexpr bool kTestForStillness = kHasAgainCommand;
+#elif defined(__CUDA_ARCH__) || PSC_MOVE_OVER_BOARDS
+    constexpr bool kTestForStillness = true;
+#else
+    constexpr bool kTestForStillness = false;
+#endif
+    if (kTestForStillness && !movingCells(e).any()) return false;
     // On the GPU the boards' straight-line code keeps a warp's environments
     // together where the passes cell by cell part them (kettle 3.9x, blocks
     // 6.1x, zenpuzzle 1.6x on one H200; slidings 0.98x), even for a lone
