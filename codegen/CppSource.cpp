@@ -1,6 +1,7 @@
 #include "CppSource.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <bit>

@@ -157,7 +157,8 @@ PSC_DEVICE PSC_INLINE bool resolveMovements(Env& e, Turn& t) {
     // costs registers (constellationz, whose every turn moves, 0.88x), so
     // there only games with `again` test; on one CPU thread the passes below
     // cost little too and the test did not pay (constellationz 0.93x).  The
-    // tests' CPU build of the GPU's movement (PSC_MOVE_OVER_BOARDS) tests.
+    // CPU build of the GPU's movement that the tests use
+    // (PSC_MOVE_OVER_BOARDS) tests as the GPU does.
 #if defined(__CUDA_ARCH__) && PSC_STATE_IN_REGISTERS
     constexpr bool kTestForStillness = kHasAgainCommand;
 #elif defined(__CUDA_ARCH__) || PSC_MOVE_OVER_BOARDS
