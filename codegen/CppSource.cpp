@@ -46,8 +46,8 @@ constexpr int kMaxCompileUnits = 8;
 // 2.1-3.0 s for kettle (69.3 k), against 0.8-0.9 s in groups; the hosts lent
 // differ by a third, so the budget keeps the whole build near 2 s there and
 // under the 3 s bar on a slower one.  Past it, units compile in parallel
-// instead.  Registers ran those three 1.5-2.1x faster than groups, limerick
-// (124 k, 4.2 s) 1.6x faster.
+// instead.  Registers ran those three 1.5-2.1x faster than groups; limerick
+// (124 k) no faster than its memory layout now (0.98x, 5.8 s of NVRTC).
 constexpr size_t kRegisterCodeBudget = 40000;
 
 // The groups layout (templates/core.h) compiles each group with its rules
