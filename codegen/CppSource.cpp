@@ -930,6 +930,17 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     out.open("namespace psc_game");
     out.line(fmt::format("constexpr int kKeyObjectCount = {};  // objects an input can create, destroy or move", keyIds.size()));
     out.line("PSC_TABLE int kKeyObjects[] = {" + list(keyIds, [](int id) { return std::to_string(id); }, "-1") + "};");
+    const std::vector<int> folds = keyFolds(game, keyIds);
+    bool folding = false;
+    for (size_t k = 0; k < folds.size(); ++k) {
+        if (folds[k] == static_cast<int>(k)) continue;
+        folding = true;
+        out.line(fmt::format("// search takes {} for {}: nothing but their creation tells them apart (codegen/KeyObjects.h)",
+                             game.objects[static_cast<size_t>(keyIds[k])].name,
+                             game.objects[static_cast<size_t>(keyIds[static_cast<size_t>(folds[k])])].name));
+    }
+    out.line(fmt::format("constexpr bool kKeyFolds = {};", folding));
+    out.line("PSC_TABLE int kKeyFoldInto[] = {" + list(folds, [](int k) { return std::to_string(k); }, "0") + "};");
     out.close("  // namespace psc_game");
     out.line();
     out.raw(templates::stateKey());

@@ -50,6 +50,7 @@ std::unique_ptr<Plugin> Plugin::open(const std::string& path, std::string* error
     PSC_LOAD(rollout, psc_rollout);
     PSC_LOAD(encodeStates, psc_encode_states);
     PSC_LOAD(decodeState, psc_decode_state);
+    PSC_LOAD(canonicalKeys, psc_canonical_keys);
     PSC_LOAD(expand, psc_expand);
     PSC_LOAD(estimateDistance, psc_estimate_distance);
     PSC_LOAD(deviceAlloc, psc_device_alloc);
@@ -58,7 +59,7 @@ std::unique_ptr<Plugin> Plugin::open(const std::string& path, std::string* error
 #undef PSC_LOAD
     if (!info || !p->lastError || !p->batchCreate || !p->batchDestroy || !p->reset || !p->resetEntry || !p->startCutOff ||
         !p->startWon || !p->setDeadline || !p->step || !p->observe || !p->stateSize || !p->saveState || !p->loadState || !p->dumpState || !p->getBuffers ||
-        !p->stepBuffers || !p->setStream || !p->synchronize || !p->rollout || !p->encodeStates || !p->decodeState ||
+        !p->stepBuffers || !p->setStream || !p->synchronize || !p->rollout || !p->encodeStates || !p->decodeState || !p->canonicalKeys ||
         !p->expand || !p->estimateDistance || !p->deviceAlloc || !p->deviceFree || !p->copy) {
         *error = path + " lacks functions of the psc plugin ABI";
         return nullptr;

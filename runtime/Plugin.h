@@ -40,6 +40,7 @@ public:
     decltype(&psc_rollout) rollout = nullptr;
     decltype(&psc_encode_states) encodeStates = nullptr;
     decltype(&psc_decode_state) decodeState = nullptr;
+    decltype(&psc_canonical_keys) canonicalKeys = nullptr;
     decltype(&psc_expand) expand = nullptr;
     decltype(&psc_estimate_distance) estimateDistance = nullptr;
     decltype(&psc_device_alloc) deviceAlloc = nullptr;

@@ -1,4 +1,4 @@
-/* psc plugin ABI, version 5.
+/* psc plugin ABI, version 6.
  *
  * Every plugin psc builds (`psc game.txt -o game.so`) exports these C
  * functions.  A plugin simulates one PuzzleScript game for a batch of
@@ -29,7 +29,7 @@
 extern "C" {
 #endif
 
-#define PSC_ABI_VERSION 5
+#define PSC_ABI_VERSION 6
 
 /* Plugins are built with hidden symbols; these are the exported ones. */
 #if defined(__GNUC__)
@@ -282,10 +282,20 @@ PSC_API int psc_encode_states(const psc_batch* batch, const int32_t* env_ids, in
  * is cleared.  The environment must show the key's entry. */
 PSC_API int psc_decode_state(psc_batch* batch, int32_t env, const void* key);
 
+/* Puts `count` keys (host memory) in search's form, the form of
+ * psc_expand's children, and writes their hashes where hashes is not NULL.
+ * Objects that nothing but their own creation tells apart (no rule, win
+ * condition or move sound names one without the other, as a snake's body
+ * segments drawn two ways) have their cells on one of them, so that states
+ * differing only in which stands where have one key; such a key decodes to a
+ * state that behaves as the original, drawn with that one object.  Keys of
+ * games with no such objects are left as they are.  Since ABI version 6. */
+PSC_API int psc_canonical_keys(const psc_batch* batch, void* keys, int32_t count, uint64_t* hashes);
+
 /* psc_expand's per-child flags. */
 enum {
     PSC_EXPAND_WON = 1u << 0,       /* the input won the level (the child stays on it) */
-    PSC_EXPAND_UNCHANGED = 1u << 1, /* the child's key equals its parent's */
+    PSC_EXPAND_UNCHANGED = 1u << 1, /* the child's key equals its parent's in search's form */
     PSC_EXPAND_CUT_OFF = 1u << 2,   /* an endless `again` chain was cut off */
     PSC_EXPAND_INVALID = 1u << 3,   /* not expanded: a bad action, or a key of another entry than the template's */
     PSC_EXPAND_TIMED_OUT = 1u << 4  /* not expanded: psc_set_deadline's deadline had passed (the key is not a child) */
@@ -300,7 +310,8 @@ PSC_API int psc_set_deadline(psc_batch* batch, double seconds);
 /* The children of `count` keys under `action_count` inputs each: child
  * i * action_count + a is key i after input actions[a] (psc_action; undo has
  * no history to go back to), decoded over environment template_env, whose
- * state is left as it was.  Writes the children's keys, flags (PSC_EXPAND_*)
+ * state is left as it was.  Writes the children's keys, in search's form
+ * (psc_canonical_keys; since ABI version 6), flags (PSC_EXPAND_*)
  * and, where not NULL, their hashes and psc_estimate_distance's estimates
  * (so that best-first search needs no second pass).  Pointers are host memory for
  * CPU batches; for CUDA batches device memory (psc_device_alloc), with the

@@ -77,7 +77,8 @@ StateSpace::StateSpace(const Plugin& plugin, const SpaceOptions& options, int le
         }
     }
     root_.resize(keyWords_);
-    check(plugin.encodeStates(batch_, &env, 1, root_.data(), &rootHash_), "encoding the start");
+    check(plugin.encodeStates(batch_, &env, 1, root_.data(), nullptr), "encoding the start");
+    check(plugin.canonicalKeys(batch_, root_.data(), 1, &rootHash_), "encoding the start");
     entry_ = info.level_entries[level];
 
     maxBatch_ = options.maxBatch ? options.maxBatch : defaultBatch(options, info.state_key_bytes);

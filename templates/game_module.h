@@ -149,6 +149,7 @@ void moduleEncodeKey(const void* env, uint64_t* key) { encodeKey(envOf(env), wor
 void moduleDecodeKey(void* env, const uint64_t* key) { decodeKey(envOf(env), words(key)); }
 int moduleKeyEntry(const uint64_t* key) { return keyEntry(words(key)); }
 uint64_t moduleHashKey(const uint64_t* key) { return hashKey(words(key)); }
+void moduleFoldKey(uint64_t* key) { foldKey(words(key)); }
 uint8_t moduleExpandKey(void* env, const uint64_t* parent, int input, uint64_t* child, int64_t deadline) {
     return expandKey(envOf(env), words(parent), input, words(child), static_cast<unsigned long long>(deadline));
 }
@@ -198,6 +199,7 @@ extern "C" const psc_host::GameModule psc_game_module = {
     psc_game::moduleDecodeKey,
     psc_game::moduleKeyEntry,
     psc_game::moduleHashKey,
+    psc_game::moduleFoldKey,
     psc_game::moduleExpandKey,
     psc_game::moduleWinDistance,
 };

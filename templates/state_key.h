@@ -19,6 +19,8 @@
 //    behind a turn (kMovementsCanLinger; otherwise they are empty between inputs);
 //  - the RC4 stream's state, only for games that use random: the same board
 //    with another stream position draws other random choices.
+// Search's form of a key (foldKey, below) has the cells of objects that only
+// their creation tells apart on one of them (codegen/KeyObjects.h).
 // Not in the key, taken from the template environment: the level's size, the
 // seed (used only by level loads, which search never reaches: a won child
 // stays on its level), the episode counters and the batch's settings.
@@ -117,6 +119,44 @@ PSC_DEVICE inline void decodeKey(Env& e, const u64* key) {
 #endif
 }
 
+// Search's form of a key (psc_expand's children, psc_canonical_keys): the
+// cells of objects nothing but their creation tells apart on the first of
+// them (kKeyFoldInto, codegen/KeyObjects.h), in the level and in the
+// restart target.  Its decoded state behaves as the state folded.
+PSC_DEVICE inline void foldKey(u64* key) {
+    if constexpr (kKeyFolds) {
+        for (int part = 0; part < (kHasCheckpoint ? 2 : 1); ++part) {
+            u64* boards = key + 1 + part * kKeyBoardWords;
+            for (int k = 0; k < kKeyObjectCount; ++k) {
+                const int into = kKeyFoldInto[k];
+                if (into == k) continue;
+                for (int w = 0; w < kWords; ++w) {
+                    boards[into * kWords + w] |= boards[k * kWords + w];
+                    boards[k * kWords + w] = 0;
+                }
+            }
+        }
+    }
+}
+
+// Word k of foldKey(key), key left as it is.
+PSC_DEVICE inline u64 foldedWord(const u64* key, int k) {
+    if constexpr (!kKeyFolds) {
+        return key[k];
+    } else {
+        constexpr int kPartWords = kKeyBoardWords > 0 ? kKeyBoardWords : 1;
+        const int part = (k - 1) / kPartWords;
+        if (k < 1 || part >= (kHasCheckpoint ? 2 : 1)) return key[k];
+        const u64* boards = key + 1 + part * kPartWords;
+        const int slot = (k - 1 - part * kPartWords) / kWords;
+        const int w = (k - 1 - part * kPartWords) % kWords;
+        if (kKeyFoldInto[slot] != slot) return 0;
+        u64 v = 0;
+        for (int s = 0; s < kKeyObjectCount; ++s) v |= kKeyFoldInto[s] == slot ? boards[s * kWords + w] : 0;
+        return v;
+    }
+}
+
 // A 64-bit hash of a key (each word mixed in, then a final avalanche).
 PSC_DEVICE PSC_INLINE u64 hashKey(const u64* key) {
     u64 h = 0x243F6A8885A308D3ull ^ static_cast<u64>(kKeyWords);
@@ -140,8 +180,9 @@ enum ExpandFlag : u8 { kExpandWon = 1, kExpandUnchanged = 2, kExpandCutOff = 4, 
 // in the batch (templates/cuda_kernels.h) are too large for that.
 constexpr bool kExpandTooLarge = !PSC_STATE_IN_REGISTERS && sizeof(Env) > 128 * 1024;
 
-// The child of `parent` under `input`, decoded over the template `e` (which
-// this overwrites); the level stays as it is when the input wins it.  With a
+// The child of `parent` under `input`, in search's form (foldKey), decoded
+// over the template `e` (which this overwrites); the level stays as it is
+// when the input wins it.  Unchanged: the child is the parent's form.  With a
 // deadline (on deadlineClock; 0: none), a child not started by then, or whose
 // again chain it cut short, is no child: kExpandTimedOut, `child` unwritten
 // or not one.
@@ -154,8 +195,9 @@ PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child,
     UndoStack none = {nullptr, 0, 0, 0, nullptr, 0, deadline};
     const bool settled = applyInput(e, none, input);
     encodeKey(e, child);
+    foldKey(child);
     bool same = true;
-    PSC_UNROLL_STATE for (int k = 0; k < kKeyWords; ++k) same = same && child[k] == parent[k];
+    PSC_UNROLL_STATE for (int k = 0; k < kKeyWords; ++k) same = same && child[k] == foldedWord(parent, k);
     if (!settled && deadlinePassed(deadline)) return kExpandTimedOut;
     return static_cast<u8>((e.wins > 0 ? kExpandWon : 0) | (same ? kExpandUnchanged : 0) | (settled ? 0 : kExpandCutOff));
 }

@@ -7,7 +7,7 @@ C alignment rules, so the layouts agree on every platform psc builds for.
 import ctypes
 from ctypes import POINTER, c_char_p, c_double, c_int, c_int8, c_int32, c_size_t, c_uint8, c_uint32, c_uint64, c_void_p
 
-ABI_VERSION = 5
+ABI_VERSION = 6
 
 BACKEND_CPU = 0
 BACKEND_CUDA = 1
@@ -157,6 +157,7 @@ _PROTOTYPES = {
     "psc_dump_state": (c_int, [c_void_p, c_int32, c_void_p, c_size_t, POINTER(c_size_t)]),
     "psc_encode_states": (c_int, [c_void_p, c_void_p, c_int32, c_void_p, c_void_p]),
     "psc_decode_state": (c_int, [c_void_p, c_int32, c_void_p]),
+    "psc_canonical_keys": (c_int, [c_void_p, c_void_p, c_int32, c_void_p]),
     "psc_expand": (c_int, [c_void_p, c_int32, c_void_p, c_int32, c_void_p, c_int32, c_void_p, c_void_p, c_void_p, c_void_p]),
     "psc_estimate_distance": (c_int, [c_void_p, c_int32, c_void_p, c_int32, c_void_p]),
     "psc_device_alloc": (c_int, [c_void_p, c_size_t, POINTER(c_void_p)]),

@@ -180,6 +180,17 @@ class Batch:
         self.check(status, "encoding states")
         return keys, hashes
 
+    def canonical_keys(self, keys: np.ndarray):
+        """(keys [n, key_bytes] in search's form, the form of expand's children;
+        their hashes uint64 [n]): objects nothing but their creation tells
+        apart have their cells on one of them (psc_canonical_keys)."""
+        keys = np.array(keys, dtype=np.uint8, order="C", copy=True)
+        if keys.ndim != 2 or keys.shape[1] != self.key_bytes():
+            raise ValueError(f"keys must have shape (n, {self.key_bytes()}), not {keys.shape}")
+        hashes = np.zeros(len(keys), dtype=np.uint64)
+        self.check(self.lib.psc_canonical_keys(self.handle, keys.ctypes.data, len(keys), hashes.ctypes.data), "folding keys")
+        return keys, hashes
+
     def decode_state(self, env: int, key: np.ndarray) -> None:
         key = np.ascontiguousarray(key, dtype=np.uint8)
         if key.shape != (self.key_bytes(),):

@@ -18,7 +18,7 @@ namespace psc_host {
 
 // Raised whenever the module's layout changes; the host refuses a module of
 // another version (a plugin built from mismatched parts).
-constexpr uint32_t kGameModuleVersion = 3;
+constexpr uint32_t kGameModuleVersion = 4;
 
 // A ring of undo snapshots, laid out as the engine's UndoStack (whose turn
 // scratch only the GPU's kernels use: null here).
@@ -127,6 +127,7 @@ struct GameModule {
     void (*decodeKey)(void* env, const uint64_t* key);
     int (*keyEntry)(const uint64_t* key);
     uint64_t (*hashKey)(const uint64_t* key);
+    void (*foldKey)(uint64_t* key);  // into search's form (psc_canonical_keys)
     // deadline: steadyNanoseconds (ExpandDeadline.h) when the expansion stops, 0: none.
     uint8_t (*expandKey)(void* env, const uint64_t* parent, int input, uint64_t* child, int64_t deadline);
     int (*winDistance)(const void* env);

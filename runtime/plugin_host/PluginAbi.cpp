@@ -531,6 +531,20 @@ PSC_API int psc_encode_states(const psc_batch* batch, const int32_t* env_ids, in
     return PSC_OK;
 }
 
+PSC_API int psc_canonical_keys(const psc_batch* batch, void* keys, int32_t count, uint64_t* hashes) {
+    const GameModule& g = game();
+    if (int s = checkBatch(batch)) return s;
+    if (!keys) return fail(PSC_ERROR_NULL_POINTER, "keys must not be NULL");
+    if (count < 0) return fail(PSC_ERROR_BAD_ARGUMENT, "count must not be negative");
+    uint64_t* k = static_cast<uint64_t*>(keys);
+    for (int32_t i = 0; i < count; ++i) {
+        uint64_t* key = k + static_cast<size_t>(i) * static_cast<size_t>(g.keyWords);
+        g.foldKey(key);
+        if (hashes) hashes[i] = g.hashKey(key);
+    }
+    return PSC_OK;
+}
+
 PSC_API int psc_decode_state(psc_batch* batch, int32_t env, const void* key) {
     const GameModule& g = game();
     if (int s = checkEnv(batch, env)) return s;

@@ -286,6 +286,12 @@ def batch_calls(p, path):
              "    need = ctypes.c_size_t()\n    lib.psc_dump_state(b, 0, None, 0, ctypes.byref(need))\n"
              "assert s == BAD_STATE and p.error(), s\n", path, limit_bytes=4 << 30)
 
+    key = (c_uint8 * p.info.state_key_bytes)()
+    expect(p, "canonical_keys(NULL batch)", lib.psc_canonical_keys(None, key, 1, None), NULL)
+    expect(p, "canonical_keys(NULL keys)", lib.psc_canonical_keys(b, None, 1, None), NULL)
+    expect(p, "canonical_keys of -1 keys", lib.psc_canonical_keys(b, key, -1, None), BAD_ARG)
+    expect(p, "canonical_keys of no keys", lib.psc_canonical_keys(b, key, 0, None), OK)
+
     needed = c_size_t()
     expect(p, "dump_state(NULL batch)", lib.psc_dump_state(None, 0, None, 0, byref(needed)), NULL)
     expect(p, "dump_state of environment 2", lib.psc_dump_state(b, 2, None, 0, byref(needed)), BAD_ENV)
