@@ -295,7 +295,7 @@ PSC_API int psc_canonical_keys(const psc_batch* batch, void* keys, int32_t count
 /* psc_expand's per-child flags. */
 enum {
     PSC_EXPAND_WON = 1u << 0,       /* the input won the level (the child stays on it) */
-    PSC_EXPAND_UNCHANGED = 1u << 1, /* the child's key equals its parent's in search's form */
+    PSC_EXPAND_UNCHANGED = 1u << 1, /* the child's key equals its parent's */
     PSC_EXPAND_CUT_OFF = 1u << 2,   /* an endless `again` chain was cut off */
     PSC_EXPAND_INVALID = 1u << 3,   /* not expanded: a bad action, or a key of another entry than the template's */
     PSC_EXPAND_TIMED_OUT = 1u << 4  /* not expanded: psc_set_deadline's deadline had passed (the key is not a child) */

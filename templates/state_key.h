@@ -139,24 +139,6 @@ PSC_DEVICE inline void foldKey(u64* key) {
     }
 }
 
-// Word k of foldKey(key), key left as it is.
-PSC_DEVICE inline u64 foldedWord(const u64* key, int k) {
-    if constexpr (!kKeyFolds) {
-        return key[k];
-    } else {
-        constexpr int kPartWords = kKeyBoardWords > 0 ? kKeyBoardWords : 1;
-        const int part = (k - 1) / kPartWords;
-        if (k < 1 || part >= (kHasCheckpoint ? 2 : 1)) return key[k];
-        const u64* boards = key + 1 + part * kPartWords;
-        const int slot = (k - 1 - part * kPartWords) / kWords;
-        const int w = (k - 1 - part * kPartWords) % kWords;
-        if (kKeyFoldInto[slot] != slot) return 0;
-        u64 v = 0;
-        for (int s = 0; s < kKeyObjectCount; ++s) v |= kKeyFoldInto[s] == slot ? boards[s * kWords + w] : 0;
-        return v;
-    }
-}
-
 // A 64-bit hash of a key (each word mixed in, then a final avalanche).
 PSC_DEVICE PSC_INLINE u64 hashKey(const u64* key) {
     u64 h = 0x243F6A8885A308D3ull ^ static_cast<u64>(kKeyWords);
@@ -182,10 +164,9 @@ constexpr bool kExpandTooLarge = !PSC_STATE_IN_REGISTERS && sizeof(Env) > 128 * 
 
 // The child of `parent` under `input`, in search's form (foldKey), decoded
 // over the template `e` (which this overwrites); the level stays as it is
-// when the input wins it.  Unchanged: the child is the parent's form.  With a
-// deadline (on deadlineClock; 0: none), a child not started by then, or whose
-// again chain it cut short, is no child: kExpandTimedOut, `child` unwritten
-// or not one.
+// when the input wins it.  With a deadline (on deadlineClock; 0: none), a
+// child not started by then, or whose again chain it cut short, is no child:
+// kExpandTimedOut, `child` unwritten or not one.
 PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child, unsigned long long deadline) {
     if (deadlinePassed(deadline)) return kExpandTimedOut;
     decodeKey(e, parent);
@@ -197,7 +178,7 @@ PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child,
     encodeKey(e, child);
     foldKey(child);
     bool same = true;
-    PSC_UNROLL_STATE for (int k = 0; k < kKeyWords; ++k) same = same && child[k] == foldedWord(parent, k);
+    PSC_UNROLL_STATE for (int k = 0; k < kKeyWords; ++k) same = same && child[k] == parent[k];
     if (!settled && deadlinePassed(deadline)) return kExpandTimedOut;
     return static_cast<u8>((e.wins > 0 ? kExpandWon : 0) | (same ? kExpandUnchanged : 0) | (settled ? 0 : kExpandCutOff));
 }
