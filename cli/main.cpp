@@ -222,7 +222,7 @@ int main(int argc, char** argv) {
     solve->add_option("--max-memory", solveOptions.maxMemoryMb, "MB for the states of one search; 0: half the machine's memory (GPU breadth-first: nine tenths of the free device memory)")
         ->check(CLI::NonNegativeNumber);
     solve->add_option("--weight", solveOptions.weight, "wastar's weight on the estimate (>= 1)");
-    solve->add_option("--beam-width", solveOptions.beamWidth, "states beam search keeps a layer; 0: from 256 (CPU) or 4,096 (GPU), four times wider each time a beam empties, to 10,000 (CPU) or 1,048,576 (GPU)");
+    solve->add_option("--beam-width", solveOptions.beamWidth, "states beam search keeps a layer; 0: from 256 (CPU) or 4,096 (GPU), four times wider each time a beam empties, to 10,000 (CPU) or 16,777,216 (GPU)");
     solve->add_option("--seed", solveOptions.seed, "the level's random seed (games that use random)");
     solve->add_option("--from-inputs", solveOptions.fromInputs, "inputs (u d l r x) played before searching");
     solve->add_option("--format", solveOptions.format, "text, or json: one object per level and line")
