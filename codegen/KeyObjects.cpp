@@ -30,20 +30,12 @@ namespace {
 // object a rule creates is what folding forgets.
 std::vector<BitSet> distinguishingSets(const ir::Game& g) {
     std::vector<BitSet> sets = {g.playerMask};
-    for (const auto* groups : {&g.rules, &g.lateRules}) {
-        for (const auto& group : *groups) {
-            for (const auto& rule : group.rules) {
-                for (const auto& row : rule.rows) {
-                    for (const auto& cell : row) {
-                        sets.push_back(cell.present);
-                        sets.push_back(cell.missing);
-                        sets.insert(sets.end(), cell.anyOf.begin(), cell.anyOf.end());
-                        if (cell.replacement) sets.push_back(cell.replacement->clear);
-                    }
-                }
-            }
-        }
-    }
+    forEachCell(g, [&](const ir::CellPattern& cell) {
+        sets.push_back(cell.present);
+        sets.push_back(cell.missing);
+        sets.insert(sets.end(), cell.anyOf.begin(), cell.anyOf.end());
+        if (cell.replacement) sets.push_back(cell.replacement->clear);
+    });
     for (const auto& w : g.winConditions) {
         sets.push_back(w.objects);
         sets.push_back(w.on);

@@ -95,21 +95,26 @@ struct MovementUpdate {
 std::vector<MovementUpdate> movementUpdates(const ir::Game& game, const ir::Replacement& r, std::optional<int> entityLayer,
                                             const CellFacts* facts = nullptr);
 
-// Calls f(cell) for each cell pattern with a replacement, in every rule, early
-// and late.
+// Calls f(cell) for each cell pattern, in every rule, early and late.
 template <typename F>
-void forEachReplacingCell(const ir::Game& game, F f) {
+void forEachCell(const ir::Game& game, F f) {
     for (const auto* groups : {&game.rules, &game.lateRules}) {
         for (const auto& group : *groups) {
             for (const auto& rule : group.rules) {
                 for (const auto& row : rule.rows) {
-                    for (const auto& cell : row) {
-                        if (cell.replacement) f(cell);
-                    }
+                    for (const auto& cell : row) f(cell);
                 }
             }
         }
     }
+}
+
+// Calls f(cell) for each cell pattern with a replacement.
+template <typename F>
+void forEachReplacingCell(const ir::Game& game, F f) {
+    forEachCell(game, [&](const ir::CellPattern& cell) {
+        if (cell.replacement) f(cell);
+    });
 }
 
 // The objects input moves: the player's, with the live ids of its ghosts.

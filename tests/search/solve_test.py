@@ -114,10 +114,11 @@ covered, drawn = trail_states(4, 4)
 code, records, err = solve(GAMES / "trail.txt", "--level", "0")
 check(code == 1 and records and records[0]["status"] == "exhausted" and records[0]["unique_states"] == covered,
       f"trail level 0: {covered} states, the trail's looks one ({records} {err.strip()})")
-told_apart = Path(tempfile.mkdtemp()) / "trail_told_apart.txt"
-told_apart.write_text((GAMES / "trail.txt").read_text().replace("[ > Player ] -> [ Player ]",
-                                                                  "[ > Player ] -> [ Player ]\n[ TrailAcross ] -> [ TrailAcross ]"))
-code, records, err = solve(told_apart, "--level", "0")
+with tempfile.TemporaryDirectory() as scratch:
+    told_apart = Path(scratch) / "trail_told_apart.txt"
+    told_apart.write_text((GAMES / "trail.txt").read_text().replace("[ > Player ] -> [ Player ]",
+                                                                      "[ > Player ] -> [ Player ]\n[ TrailAcross ] -> [ TrailAcross ]"))
+    code, records, err = solve(told_apart, "--level", "0")
 check(code == 1 and records and records[0]["unique_states"] == drawn,
       f"trail with a rule naming one look: {drawn} states ({records} {err.strip()})")
 code, records, err = solve(GAMES / "trail.txt", "--level", "1")
