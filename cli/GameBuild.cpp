@@ -11,6 +11,7 @@
 #include "CacheFile.h"
 #include "Diagnose.h"
 #include "base/Sha1.h"
+#include "plugin_host/DeviceImage.h"
 
 namespace psc::cli {
 
@@ -64,12 +65,6 @@ std::vector<std::string> splitUnits(const std::string& text) {
     return units;
 }
 
-codegen::DeviceCodeFiles deviceCodeFiles(const CudaCompileResult& r, const fs::path& cubin, const fs::path& ptx) {
-    codegen::DeviceCodeFiles files{fs::absolute(cubin).string(), fs::absolute(ptx).string(), {}, r.stackBytes};
-    for (const auto& unit : r.ptx) files.ptxBytes.push_back(unit.size());
-    return files;
-}
-
 // ptxas's per-kernel lines (registers, spills, shared memory).
 void printResourceReport(const std::string& log) {
     std::istringstream in(log);
@@ -78,6 +73,17 @@ void printResourceReport(const std::string& log) {
             fmt::print(stderr, "psc: {}\n", line);
         }
     }
+}
+
+// Where a plugin build's time went, for --verbose.
+std::string buildTimes(const BuildResult& built) {
+    if (built.cached) return "from the cache";
+    std::string out = fmt::format("built in {:.2f} s; the host side in {} process{}:", built.seconds, built.unitSeconds.size(),
+                                  built.unitSeconds.size() == 1 ? "" : "es");
+    for (double t : built.unitSeconds) out += fmt::format(" {:.2f}", t);
+    out += built.linkSeconds < 0 ? " s, linked at once" : fmt::format(" s, then the link {:.2f} s", built.linkSeconds);
+    if (built.deviceCodeSeconds >= 0) out += fmt::format("; the device code added in {:.2f} s", built.deviceCodeSeconds);
+    return out;
 }
 
 }  // namespace
@@ -92,7 +98,7 @@ namespace {
 // compileDeviceCode for a cudaSource already made.
 std::optional<CudaCompileResult> compileDeviceSource(const std::string& source, const std::string& layout,
                                                      const std::string& text, const std::string& path,
-                                                     const GameBuildOptions& options, codegen::DeviceCodeFiles* files) {
+                                                     const GameBuildOptions& options) {
     const std::string key = deviceCodeKey(source, options);
     const fs::path dir = options.build.cacheDir.empty() ? defaultCacheDir() : options.build.cacheDir;
     const fs::path cubinPath = dir / (key + ".cubin");
@@ -109,7 +115,6 @@ std::optional<CudaCompileResult> compileDeviceSource(const std::string& source, 
         r.log = readFile(logPath);
         r.stackBytes = stackBound(r.log, r.ptx);
         if (options.build.verbose) fmt::print(stderr, "psc: CUDA code from the cache ({})\n", cubinPath.string());
-        if (files) *files = deviceCodeFiles(r, cubinPath, ptxPath);
         return r;
     }
     if (const std::string problem = cudaCompilerProblem(options.cuda.compiler); !problem.empty()) {
@@ -139,26 +144,20 @@ std::optional<CudaCompileResult> compileDeviceSource(const std::string& source, 
     fmt::print(stderr, "psc: CUDA compile ({}, {} layout{}) {:.2f} s\n", options.cuda.compiler, layout,
                r.units > 1 ? fmt::format(", {} units", r.units) : std::string(), r.seconds);
     fs::create_directories(dir, ec);
-    const bool stored = writeCacheFile(cubinPath, std::string_view(r.cubin.data(), r.cubin.size())) &&
-                        writeCacheFile(ptxPath, joinUnits(r.ptx)) && writeCacheFile(logPath, r.log);
-    if (files) {
-        if (!stored) {
-            fmt::print(stderr, "{}: error: cannot write the CUDA code into the cache {}\n", path, dir.string());
-            return std::nullopt;
-        }
-        *files = deviceCodeFiles(r, cubinPath, ptxPath);
-    }
+    // A cache that cannot be written costs the next build its NVRTC time, nothing more.
+    writeCacheFile(cubinPath, std::string_view(r.cubin.data(), r.cubin.size()));
+    writeCacheFile(ptxPath, joinUnits(r.ptx));
+    writeCacheFile(logPath, r.log);
     return r;
 }
 
 }  // namespace
 
 std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const std::string& text,
-                                                   const std::string& path, const GameBuildOptions& options,
-                                                   codegen::DeviceCodeFiles* files) {
+                                                   const std::string& path, const GameBuildOptions& options) {
     codegen::SourceOptions so = sourceOptions(text, path, options);
     so.decidedRuleForm = codegen::ruleForm(game, so);
-    return compileDeviceSource(codegen::cudaSource(game, so), codegen::gpuStateLayout(game, so), text, path, options, files);
+    return compileDeviceSource(codegen::cudaSource(game, so), codegen::gpuStateLayout(game, so), text, path, options);
 }
 
 std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text, const std::string& path,
@@ -172,30 +171,26 @@ std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text
     if (options.target == "cpu") {
         built = buildCpuPlugin(codegen::cpuPluginSource(game, so), build);
     } else {
-        // The host side compiles while NVRTC does; the device code joins it at the link.
+        // The host side compiles and links while NVRTC runs; the device code is added to the plugin after.
         const std::string deviceSource = codegen::cudaSource(game, so);
         PluginBuild host(codegen::cudaPluginSource(game, so), build, deviceCodeKey(deviceSource, options));
-        codegen::DeviceCodeFiles files;
-        if (!host.cached() && !compileDeviceSource(deviceSource, codegen::gpuStateLayout(game, so), text, path, options, &files)) {
-            return nullptr;
+        if (host.cached()) {
+            built = host.finish();
+        } else {
+            const auto device = compileDeviceSource(deviceSource, codegen::gpuStateLayout(game, so), text, path, options);
+            if (!device) return nullptr;
+            psc_host::DeviceImage image;
+            image.cubin.assign(device->cubin.begin(), device->cubin.end());
+            image.ptx = device->ptx;
+            image.stackBytes = device->stackBytes;
+            built = host.finish(psc_host::encodeDeviceImage(image));
         }
-        built = host.cached() ? host.finish() : host.finish(codegen::deviceCodeSource(files));
     }
     if (!built.ok) {
         fmt::print(stderr, "{}: error: building the plugin failed\n{}\n{}\n", path, built.command, built.log);
         return nullptr;
     }
-    if (options.build.verbose) {
-        std::string units;
-        if (!built.cached && built.unitSeconds.size() > 1) {
-            units = fmt::format("; {} compile units in {} processes at once, the device code, then the link:", build.units,
-                                built.unitSeconds.size() - 2);
-            for (double t : built.unitSeconds) units += fmt::format(" {:.2f}", t);
-            units += " s";
-        }
-        fmt::print(stderr, "psc: plugin {} ({}{})\n", built.pluginPath,
-                   built.cached ? "from the cache" : fmt::format("built in {:.2f} s", built.seconds), units);
-    }
+    if (options.build.verbose) fmt::print(stderr, "psc: plugin {} ({})\n", built.pluginPath, buildTimes(built));
     std::string error;
     auto plugin = Plugin::open(built.pluginPath, &error);
     if (!plugin) fmt::print(stderr, "{}: error: {}\n", path, error);

@@ -39,9 +39,8 @@ std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text
 // The cache key of a game's compiled device code (cudaSource and the CUDA options).
 std::string deviceCodeKey(const std::string& cudaSource, const GameBuildOptions& options);
 // The game's device code compiled for CUDA (cached); nothing on failure
-// (reported on stderr).  `files` receives where the cache keeps it.
+// (reported on stderr).
 std::optional<CudaCompileResult> compileDeviceCode(const ir::Game& game, const std::string& text,
-                                                   const std::string& path, const GameBuildOptions& options,
-                                                   codegen::DeviceCodeFiles* files = nullptr);
+                                                   const std::string& path, const GameBuildOptions& options);
 
 }  // namespace psc::cli

@@ -949,27 +949,6 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options) {
     return out.text();
 }
 
-namespace {
-
-// What the plugin's host source knows of its device code (deviceCodeSource
-// defines it).
-constexpr const char* kDeviceCodeDeclarations =
-    "extern \"C\" const unsigned char psc_device_cubin[];\n"
-    "extern \"C\" const unsigned char psc_device_ptx[];  // each unit's PTX, then a NUL\n"
-    "extern \"C\" const size_t psc_device_ptx_bytes[];   // each unit's, the NUL left out\n"
-    "extern \"C\" const int psc_device_ptx_units;\n"
-    "extern \"C\" const size_t psc_device_stack_bytes;\n";
-
-// A file's bytes, then a NUL, as a hidden read-only symbol: an assembler
-// directive for the plugin's source (the assembler reads the file at build time).
-std::vector<std::string> includedBytes(const std::string& symbol, const std::string& path) {
-    std::string quoted;
-    for (char c : path) quoted += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
-    return {".balign 64", ".globl " + symbol, ".hidden " + symbol, symbol + ":", ".incbin \"" + quoted + "\"", ".byte 0"};
-}
-
-}  // namespace
-
 std::string cudaSource(const ir::Game& game, const SourceOptions& options) {
     CodeWriter out;
     out.raw(header(game, options, "cuda"));
@@ -997,9 +976,8 @@ std::string pluginSource(const ir::Game& game, const SourceOptions& options) {
     out.raw("#if PSC_COMPILES_UNIT(0)\n");
     emitHostInfo(out, game, options);
     if (cuda) {
-        out.line("// ---- the game's device code, compiled for CUDA, is defined by a second source");
-        out.line("// (deviceCodeSource), compiled once NVRTC is done: this one compiles meanwhile.");
-        out.raw(kDeviceCodeDeclarations);
+        out.line("// ---- the game's device code, compiled for CUDA, is added to the linked plugin");
+        out.line("// (runtime/plugin_host/DeviceImage.h): this source compiles while NVRTC runs.");
     }
     out.line(fmt::format("#define PSC_PLUGIN_DEVICE_CODE {}", cuda ? 1 : 0));
     out.line();
@@ -1010,27 +988,6 @@ std::string pluginSource(const ir::Game& game, const SourceOptions& options) {
 }  // namespace
 
 std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options) { return pluginSource(game, options); }
-
-std::string deviceCodeSource(const DeviceCodeFiles& device) {
-    CodeWriter out;
-    out.line("// The device code of a psc plugin: the cubin, and the PTX of each compile unit");
-    out.line("// (templates/core.h) for GPUs the cubin is not for, each followed by a NUL byte.");
-    out.line("#include <stddef.h>");
-    out.raw(kDeviceCodeDeclarations);
-    std::vector<std::string> directives = {".pushsection .rodata"};
-    for (const auto& d : includedBytes("psc_device_cubin", device.cubinPath)) directives.push_back(d);
-    for (const auto& d : includedBytes("psc_device_ptx", device.ptxPath)) directives.push_back(d);
-    directives.push_back(".popsection");
-    out.line("__asm__(");
-    for (const auto& d : directives) out.line("    " + cString(d + "\n"));
-    out.line(");");
-    out.line(fmt::format("extern \"C\" const size_t psc_device_ptx_bytes[] = {{{}}};",
-                         list(device.ptxBytes, [](size_t b) { return std::to_string(b); })));
-    out.line(fmt::format("extern \"C\" const int psc_device_ptx_units = {};", device.ptxBytes.size()));
-    out.line(fmt::format("extern \"C\" const size_t psc_device_stack_bytes = {};  // per thread, a bound on the kernels' stacks",
-                         device.stackBytes));
-    return out.text();
-}
 
 std::string cpuPluginSource(const ir::Game& game, const SourceOptions& options) { return pluginSource(game, options); }
 

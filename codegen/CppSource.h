@@ -63,21 +63,11 @@ std::string deviceSource(const ir::Game& game, const SourceOptions& options);
 std::string cpuPluginSource(const ir::Game& game, const SourceOptions& options);
 // The CUDA translation unit: the device part and the kernels (for NVRTC or nvcc).
 std::string cudaSource(const ir::Game& game, const SourceOptions& options);
-// The compiled cudaSource() as files: the plugin includes them with the
-// assembler (.incbin), since a large cubin spelled as a C++ array took most of
-// the host compile of a big game.
-struct DeviceCodeFiles {
-    std::string cubinPath;         // the linked cubin
-    std::string ptxPath;           // every compile unit's PTX, NUL-separated
-    std::vector<size_t> ptxBytes;  // each unit's size, in file order
-    size_t stackBytes = 0;         // per thread, a bound on the kernels' call stacks
-};
 // The host translation unit of a plugin with both backends, which compiles
-// while NVRTC does: cpuPluginSource's, declaring the device code, which
-// deviceCodeSource defines (the two and the plugin host are linked into one
-// plugin).
+// and links while NVRTC runs: cpuPluginSource's, with the CUDA backend's
+// description of the device code, which is added to the linked plugin after
+// (runtime/plugin_host/DeviceImage.h).
 std::string cudaPluginSource(const ir::Game& game, const SourceOptions& options);
-std::string deviceCodeSource(const DeviceCodeFiles& device);
 
 // Compile units of the plugin's host side (templates/core.h), which the
 // system compiler compiles at once: the CUDA code's split for plugins with

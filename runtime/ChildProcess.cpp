@@ -14,6 +14,7 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <utility>
@@ -24,6 +25,20 @@ namespace {
 // The supervisor's handler for psc's death (and for SIGINT/SIGTERM/SIGHUP sent
 // to its group): the whole group, itself included, dies at once.
 void killOwnGroup(int) { kill(0, SIGKILL); }
+
+// What the supervisor tells psc: the child's wait status (-1: it could not be
+// started) and how long the child ran, which psc, collecting it later, cannot
+// see.
+struct ChildReport {
+    int status = 0;
+    long long nanoseconds = 0;
+};
+
+long long monotonicNanoseconds() {
+    timespec t{};
+    clock_gettime(CLOCK_MONOTONIC, &t);  // async-signal-safe
+    return static_cast<long long>(t.tv_sec) * 1000000000LL + t.tv_nsec;
+}
 
 bool writeAll(int fd, const void* data, size_t size) {
     const char* p = static_cast<const char*>(data);
@@ -50,6 +65,7 @@ bool writeAll(int fd, const void* data, size_t size) {
     sigset_t none;
     sigemptyset(&none);
     sigprocmask(SIG_SETMASK, &none, nullptr);
+    const long long started = monotonicNanoseconds();
     const pid_t child = fork();
     if (child == 0) {
         struct sigaction fallback {};
@@ -67,14 +83,15 @@ bool writeAll(int fd, const void* data, size_t size) {
         execv(path, argv);
         _exit(127);
     }
-    int status = 0;
+    ChildReport report;
     if (child < 0) {
-        status = -1;
+        report.status = -1;
     } else {
-        while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+        while (waitpid(child, &report.status, 0) < 0 && errno == EINTR) {
         }
     }
-    writeAll(statusFd, &status, sizeof status);
+    report.nanoseconds = monotonicNanoseconds() - started;
+    writeAll(statusFd, &report, sizeof report);
     _exit(0);
 }
 
@@ -197,29 +214,30 @@ void RunningChild::stop() {
 ChildResult RunningChild::wait() {
     if (supervisor_ <= 0) return result_;
     ChildResult& r = result_;
-    int status = 0;
+    ChildReport report;
     size_t got = 0;
     for (;;) {
         if (!waitReadable(statusFd_, wallSeconds_, start_)) {
             r.timedOut = true;
             break;
         }
-        const ssize_t n = read(statusFd_, reinterpret_cast<char*>(&status) + got, sizeof status - got);
+        const ssize_t n = read(statusFd_, reinterpret_cast<char*>(&report) + got, sizeof report - got);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) break;  // the supervisor died without a report
         got += static_cast<size_t>(n);
-        if (got == sizeof status) break;
+        if (got == sizeof report) break;
     }
+    const int status = report.status;
     close(statusFd_);
     statusFd_ = -1;
-    if (r.timedOut || got != sizeof status) kill(-supervisor_, SIGKILL);
+    if (r.timedOut || got != sizeof report) kill(-supervisor_, SIGKILL);
     int supervisorStatus = 0;
     while (waitpid(supervisor_, &supervisorStatus, 0) < 0 && errno == EINTR) {
     }
     supervisor_ = -1;
-    r.seconds = secondsSince(start_);
+    r.seconds = got == sizeof report ? static_cast<double>(report.nanoseconds) * 1e-9 : secondsSince(start_);
     if (r.timedOut) return r;
-    if (got != sizeof status || status == -1) {
+    if (got != sizeof report || status == -1) {
         r.error = fmt::format("{} ended without a status", program_);
         r.signal = WIFSIGNALED(supervisorStatus) ? WTERMSIG(supervisorStatus) : 0;
         return r;

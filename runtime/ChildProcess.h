@@ -26,7 +26,7 @@ struct ChildResult {
     int exitCode = -1;      // the child's exit status, when it exited
     int signal = 0;         // the signal that ended it, when one did
     bool timedOut = false;  // killed at limits.wallSeconds
-    double seconds = 0;
+    double seconds = 0;     // how long it ran (until it was stopped, when it was)
     std::string error;
 
     bool ok() const { return started && !timedOut && signal == 0 && exitCode == 0; }

@@ -15,6 +15,7 @@
 #include "ChildProcess.h"
 #include "InstallPaths.h"
 #include "base/Sha1.h"
+#include "plugin_host/DeviceImage.h"
 
 namespace psc {
 namespace {
@@ -142,14 +143,12 @@ PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options,
         cores = static_cast<unsigned>(std::atoi(jobs));
     }
     const int processes = static_cast<int>(std::min<unsigned>(cores, static_cast<unsigned>(units)));
-    if (processes == 1 && extraKey.empty()) {
-        // Compiled and linked at once.
+    if (processes == 1) {
+        // Compiled and linked at once (a CUDA plugin's device code is added to it afterwards: finish).
         std::vector<std::string> arguments = {"-shared", "-o", (dir_ / (unique_ + ".so")).string(), source_.string()};
         for (const auto& a : hostLinkArguments()) arguments.push_back(a);
         addStep(compileCommand(arguments));
         linkedAtOnce_ = true;
-    } else if (processes == 1) {
-        addObject(source_, {});
     } else {
         for (const uint64_t mask : shareOut(units, processes)) addObject(source_, {fmt::format("-DPSC_UNIT_MASK={}ull", mask)});
     }
@@ -198,7 +197,7 @@ void PluginBuild::cleanUp() {
     std::error_code ec;
     for (const auto& step : steps_) fs::remove(step.log, ec);
     for (const auto& o : objects_) fs::remove(o, ec);
-    if (!lateSource_.empty()) fs::remove(lateSource_, ec);
+    if (!deviceImage_.empty()) fs::remove(deviceImage_, ec);
     if (!source_.empty()) {
         if (result_.ok && !result_.cached) fs::rename(source_, dir_ / (key_ + ".cpp"), ec);
         else fs::remove(source_, ec);
@@ -206,24 +205,20 @@ void PluginBuild::cleanUp() {
     steps_.clear();
     objects_.clear();
     source_.clear();
-    lateSource_.clear();
+    deviceImage_.clear();
 }
 
-BuildResult PluginBuild::finish(const std::string& lateSource) {
+BuildResult PluginBuild::finish(const std::string& deviceImage) {
     if (done_) return result_;
     done_ = true;
-    for (auto& step : steps_) step.result = step.running.wait();
-    auto runLast = [&] { steps_.back().result = runChild(steps_.back().argv, steps_.back().log, limits_); };
-    if (!lateSource.empty()) {
-        lateSource_ = dir_ / (unique_ + ".device.cpp");
-        if (!writeText(lateSource_, lateSource)) {
-            result_.log = "cannot write " + lateSource_.string();
-            cleanUp();
-            return result_;
-        }
-        addObject(lateSource_, {});
-        runLast();
+    for (auto& step : steps_) {
+        step.result = step.running.wait();
+        result_.unitSeconds.push_back(step.result.seconds);
     }
+    auto runLast = [&] {
+        steps_.back().result = runChild(steps_.back().argv, steps_.back().log, limits_);
+        return steps_.back().result;
+    };
     bool ok = std::all_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.result.ok(); });
     const fs::path tmp = dir_ / (unique_ + ".so");
     if (ok && !linkedAtOnce_) {
@@ -233,12 +228,26 @@ BuildResult PluginBuild::finish(const std::string& lateSource) {
         for (const auto& o : objects_) link.push_back(o.string());
         for (const auto& a : hostLinkArguments()) link.push_back(a);
         addStep(std::move(link));
-        runLast();
-        ok = steps_.back().result.ok();
+        const ChildResult linked = runLast();
+        ok = linked.ok();
+        result_.linkSeconds = linked.seconds;
+    }
+    if (ok && !deviceImage.empty()) {
+        // A section the loader leaves alone, added in place; objcopy ships with
+        // the binutils that the C++ compiler links with.
+        deviceImage_ = dir_ / (unique_ + ".device");
+        if (!writeText(deviceImage_, deviceImage)) {
+            result_.log = "cannot write " + deviceImage_.string();
+            ok = false;
+        } else {
+            addStep({"objcopy", "--add-section", std::string(psc_host::kDeviceImageSection) + "=" + deviceImage_.string(), tmp.string()});
+            const ChildResult added = runLast();
+            ok = added.ok();
+            result_.deviceCodeSeconds = added.seconds;
+        }
     }
     for (const auto& step : steps_) {
         if (!step.result.ok() && result_.log.empty()) result_.log = failureLog(step, limits_);
-        if (!linkedAtOnce_) result_.unitSeconds.push_back(step.result.seconds);
     }
     std::error_code ec;
     if (ok) {

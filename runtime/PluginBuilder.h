@@ -33,14 +33,17 @@ struct BuildResult {
     std::string command;
     std::string log;         // the compiler's output on failure
     double seconds = 0;
-    std::vector<double> unitSeconds;  // each compile process's seconds, then the link's (objects linked)
+    std::vector<double> unitSeconds;  // each compile process's seconds (with the link, when one process made the plugin)
+    double linkSeconds = -1;          // the link of several processes' objects; -1: none
+    double deviceCodeSeconds = -1;    // adding the device code to the linked plugin; -1: none
 };
 
 // A plugin build under way: the constructor starts compiling `source` (unless
-// the cache holds the plugin) and returns; finish() waits, compiles
-// `lateSource` (code that was not ready at the start: a plugin's device code,
-// which NVRTC makes meanwhile) as one more object, links, and caches the
-// plugin.  `extraKey` names what lateSource will hold, for the cache key.
+// the cache holds the plugin) and, where one process compiles it, linking it,
+// and returns; finish() waits, links the objects of several processes, adds
+// `deviceImage` (a CUDA plugin's device code, which NVRTC makes meanwhile:
+// plugin_host/DeviceImage.h) to the plugin as a section, and caches the
+// plugin.  `extraKey` names what deviceImage will hold, for the cache key.
 class PluginBuild {
 public:
     PluginBuild(const std::string& source, const BuildOptions& options, const std::string& extraKey = "");
@@ -49,7 +52,7 @@ public:
     PluginBuild& operator=(const PluginBuild&) = delete;
 
     bool cached() const { return result_.cached; }
-    BuildResult finish(const std::string& lateSource = "");
+    BuildResult finish(const std::string& deviceImage = "");
 
     struct Step {
         std::vector<std::string> argv;
@@ -75,11 +78,11 @@ private:
     std::string key_;
     std::string unique_;
     std::filesystem::path source_;
-    std::filesystem::path lateSource_;
+    std::filesystem::path deviceImage_;
     ChildLimits limits_;
     std::vector<Step> steps_;
     std::vector<std::filesystem::path> objects_;
-    bool linkedAtOnce_ = false;  // one process, nothing to come: it makes the plugin itself
+    bool linkedAtOnce_ = false;  // one process: it makes the plugin itself
     bool done_ = false;
     BuildResult result_;
 };

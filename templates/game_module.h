@@ -157,7 +157,6 @@ int moduleWinDistance(const void* env) { return winDistance(envOf(env)); }
 
 #if PSC_PLUGIN_DEVICE_CODE
 const psc_host::DeviceCode kDeviceCode = {
-    psc_device_cubin, psc_device_ptx, psc_device_ptx_bytes, psc_device_ptx_units, psc_device_stack_bytes,
     PSC_STATE_IN_SHARED, kSharedEnvStride, PSC_SEARCH_KERNELS, kExpandTooLarge,
     kEnvInBatch ? kMaxTurnNesting * sizeof(TurnScratch) : 0, PSC_UNIT_MAX_REGISTERS,
 };

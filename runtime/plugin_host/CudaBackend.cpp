@@ -11,8 +11,10 @@
 #include <type_traits>
 #include <vector>
 
+#include "DeviceImage.h"
 #include "ExpandDeadline.h"
 #include "HostErrors.h"
+#include "PluginFile.h"
 
 namespace psc_host {
 namespace {
@@ -114,23 +116,39 @@ Driver& driver() {
     return d;
 }
 
+// The game's device code, read from the plugin's file once, at the first
+// batch (DeviceImage.h); null, with the reason in *error, when it cannot be.
+const DeviceImage* deviceImage(std::string* error) {
+    struct Loaded {
+        DeviceImage image;
+        std::string error;
+    };
+    static const Loaded loaded = [] {
+        Loaded l;
+        std::string bytes;
+        if (readElfSection(pluginFilePath(), kDeviceImageSection, &bytes, &l.error)) decodeDeviceImage(bytes, &l.image, &l.error);
+        return l;
+    }();
+    *error = loaded.error;
+    return loaded.error.empty() ? &loaded.image : nullptr;
+}
+
 // The game's kernels: the cubin, or, on another architecture (or with
 // PSC_CUDA_FROM_PTX=1, which tests this path), the PTX compiled by the driver
 // and, from several compile units or under a register cap, linked by it.
-CUresult loadModule(const DeviceCode& code, CUmodule* module) {
+CUresult loadModule(const DeviceImage& device, const DeviceCode& code, CUmodule* module) {
     Driver& d = driver();
     const char* fromPtx = std::getenv("PSC_CUDA_FROM_PTX");
-    if (!(fromPtx && *fromPtx && *fromPtx != '0') && d.cuModuleLoadData(module, code.cubin) == 0) return 0;
-    if (code.ptxUnits == 1 && code.unitMaxRegisters == 0) return d.cuModuleLoadData(module, code.ptx);
+    if (!(fromPtx && *fromPtx && *fromPtx != '0') && d.cuModuleLoadData(module, device.cubin.data()) == 0) return 0;
+    if (device.ptx.size() == 1 && code.unitMaxRegisters == 0) return d.cuModuleLoadData(module, device.ptx[0].c_str());
     CUlinkState link = nullptr;
     int capOption = kJitMaxRegisters;
     void* cap = reinterpret_cast<void*>(static_cast<uintptr_t>(code.unitMaxRegisters));
     CUresult r = d.cuLinkCreate(code.unitMaxRegisters > 0 ? 1 : 0, &capOption, &cap, &link);
-    const unsigned char* ptx = code.ptx;
-    for (int k = 0; r == 0 && k < code.ptxUnits; ptx += code.ptxBytes[k] + 1, ++k) {
+    for (size_t k = 0; r == 0 && k < device.ptx.size(); ++k) {
         const std::string name = "unit" + std::to_string(k) + ".ptx";
-        r = d.cuLinkAddData(link, kJitInputPtx, const_cast<unsigned char*>(ptx), code.ptxBytes[k] + 1, name.c_str(),
-                            0, nullptr, nullptr);
+        r = d.cuLinkAddData(link, kJitInputPtx, const_cast<char*>(device.ptx[k].c_str()), device.ptx[k].size() + 1,
+                            name.c_str(), 0, nullptr, nullptr);
     }
     void* image = nullptr;
     size_t size = 0;
@@ -308,6 +326,9 @@ int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
     const psc_game_info& info = *g.info;
     Driver& d = driver();
     if (!d.loaded) return fail(PSC_ERROR_BACKEND_UNAVAILABLE, d.error);
+    std::string imageError;
+    const DeviceImage* device = deviceImage(&imageError);
+    if (!device) return fail(PSC_ERROR_BACKEND_UNAVAILABLE, imageError);
     auto* cb = new (std::nothrow) CudaBatch;
     if (!cb) return fail(PSC_ERROR_OUT_OF_MEMORY, "out of memory");
     auto cleanup = [&](int status) {
@@ -323,15 +344,15 @@ int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
     constexpr int kStackLimit = 0;  // CU_LIMIT_STACK_SIZE
     size_t stack = 0;
     if (int s = check(d.cuCtxGetLimit(&stack, kStackLimit), "reading the stack limit")) return cleanup(s);
-    if (stack < code.stackBytes) {
+    if (stack < device->stackBytes) {
         // The driver refuses more than 512 kB a thread, and reserves the limit
         // for every thread the GPU can hold.
-        const std::string what = "raising the stack limit to the " + std::to_string(code.stackBytes) +
+        const std::string what = "raising the stack limit to the " + std::to_string(device->stackBytes) +
                                  " bytes a thread this game's kernels need (a game whose levels need more than the driver "
                                  "allows, at most 512 kB, runs on the CPU backend)";
-        if (int s = check(d.cuCtxSetLimit(kStackLimit, code.stackBytes), what.c_str())) return cleanup(s);
+        if (int s = check(d.cuCtxSetLimit(kStackLimit, device->stackBytes), what.c_str())) return cleanup(s);
     }
-    const CUresult loaded = loadModule(code, &cb->module);
+    const CUresult loaded = loadModule(*device, code, &cb->module);
     if (int s = check(loaded, "loading the game's kernels")) {
         cb->module = nullptr;
         return cleanup(s);

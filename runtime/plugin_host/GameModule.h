@@ -18,7 +18,7 @@ namespace psc_host {
 
 // Raised whenever the module's layout changes; the host refuses a module of
 // another version (a plugin built from mismatched parts).
-constexpr uint32_t kGameModuleVersion = 4;
+constexpr uint32_t kGameModuleVersion = 5;
 
 // A ring of undo snapshots, laid out as the engine's UndoStack (whose turn
 // scratch only the GPU's kernels use: null here).
@@ -70,13 +70,10 @@ struct DeviceBuffers {
     void* turnScratch;          // turnScratchBytes an environment, where DeviceCode asks for it
 };
 
-// The game's compiled device code (a plugin built with the CUDA backend).
+// What the CUDA backend needs to know of the game's device code (a plugin
+// built with the CUDA backend), besides the code itself, which the plugin's
+// file holds (DeviceImage.h).
 struct DeviceCode {
-    const unsigned char* cubin;
-    const unsigned char* ptx;  // each compile unit's PTX, then a NUL
-    const size_t* ptxBytes;    // each unit's, the NUL left out
-    int ptxUnits;
-    size_t stackBytes;         // per thread, a bound on the kernels' stacks
     int stateInShared;         // the stepping kernel keeps environments in shared memory
     unsigned sharedEnvStride;  // bytes between two of them there
     int searchKernels;         // psc_expand_kernel was compiled

@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """A CUDA plugin carries its game's device code: the cubin and the PTX of
-every compile unit, each followed by a NUL byte, the same bytes that psc
-compiled (`--emit ptx`, the cache), in symbols the plugin does not export; and
-its CPU backend loads and answers without a GPU.
+every compile unit, the same bytes that psc compiled (`--emit ptx`, the
+cache), and the kernels' stack bound, in a section the loader does not map
+(.psc_device, runtime/plugin_host/DeviceImage.h), kept by `strip`; and its
+CPU backend loads and answers without a GPU.
 
     cuda_plugin_device_code.py PSC GAME [--cuda-units N]"""
 import argparse
@@ -10,29 +11,40 @@ import ctypes
 import glob
 import os
 import re
+import struct
 import subprocess
 import sys
 import tempfile
 
 
-def symbol_bytes(plugin, symbol, size):
-    """`size` bytes of the plugin file at `symbol` (nm address, mapped to a file offset)."""
-    address = None
-    for line in subprocess.run(["nm", plugin], capture_output=True, text=True, check=True).stdout.splitlines():
-        parts = line.split()
-        if len(parts) == 3 and parts[2] == symbol:
-            address = int(parts[0], 16)
-    if address is None:
-        raise SystemExit(f"FAIL: {plugin} has no symbol {symbol}")
+def device_section(plugin):
+    """The plugin's .psc_device section (runtime/plugin_host/DeviceImage.h), decoded:
+    (stack bytes, cubin, [each unit's PTX]); and whether the loader maps it."""
+    dump = os.path.join(os.path.dirname(plugin), "device.bin")
+    subprocess.run(["objcopy", "--dump-section", f".psc_device={dump}", plugin, dump + ".so"], check=True)
+    with open(dump, "rb") as f:
+        data = f.read()
+    if data[:8] != b"pscdev1\0":
+        raise SystemExit(f"FAIL: {plugin}'s .psc_device section does not start with psc's mark")
+    stack, cubin_bytes, units = struct.unpack_from("<3Q", data, 8)
+    sizes = struct.unpack_from(f"<{units}Q", data, 32)
+    at = 32 + 8 * units
+    cubin = data[at:at + cubin_bytes]
+    at += cubin_bytes
+    ptx = []
+    for size in sizes:
+        if data[at + size:at + size + 1] != b"\0":
+            raise SystemExit(f"FAIL: a PTX unit of {plugin}'s device section is not followed by a NUL")
+        ptx.append(data[at:at + size])
+        at += size + 1
+    if at != len(data):
+        raise SystemExit(f"FAIL: {len(data) - at} bytes after the last PTX unit")
+    flags = None
     for line in subprocess.run(["readelf", "-SW", plugin], capture_output=True, text=True, check=True).stdout.splitlines():
         parts = line.replace("[ ", "[").split()
-        if len(parts) > 5 and parts[1].startswith(".") and all(c in "0123456789abcdef" for c in parts[3] + parts[4] + parts[5]):
-            start, offset, length = int(parts[3], 16), int(parts[4], 16), int(parts[5], 16)
-            if parts[2] != "NOBITS" and start <= address < start + length:
-                with open(plugin, "rb") as f:
-                    f.seek(address - start + offset)
-                    return f.read(size)
-    raise SystemExit(f"FAIL: {symbol} is in no section of {plugin}")
+        if len(parts) > 2 and parts[1] == ".psc_device":
+            flags = parts[7] if len(parts) > 10 else ""
+    return stack, cubin, ptx, flags
 
 
 def main():
@@ -58,13 +70,19 @@ def main():
             cubin = f.read()
         if not cubin.startswith(b"\x7fELF"):
             failures.append("the cached cubin is not an ELF image")
-        if symbol_bytes(plugin, "psc_device_cubin", len(cubin) + 1) != cubin + b"\0":
-            failures.append("psc_device_cubin differs from the compiled cubin")
-        if not ptx or symbol_bytes(plugin, "psc_device_ptx", len(ptx) + 1) != ptx + b"\0":
-            failures.append("psc_device_ptx differs from --emit ptx")
-        exported = subprocess.run(["nm", "-D", plugin], capture_output=True, text=True, check=True).stdout
-        if any(name in exported for name in ("psc_device_cubin", "psc_device_ptx")):
-            failures.append("the plugin exports its device code symbols")
+        stack, section_cubin, section_ptx, flags = device_section(plugin)
+        if section_cubin != cubin:
+            failures.append("the device section's cubin differs from the compiled cubin")
+        if section_ptx != units:
+            failures.append("the device section's PTX differs from --emit ptx")
+        if flags is None or "A" in flags:
+            failures.append(f"the device section is missing or loaded with the plugin (flags {flags!r})")
+        if not 0 < stack < 512 * 1024:
+            failures.append(f"the device section's stack bound {stack} is not a kernel stack's")
+        stripped = os.path.join(tmp, "stripped.so")
+        subprocess.run(["strip", "-o", stripped, plugin], check=True)
+        if device_section(stripped)[1] != cubin:
+            failures.append("strip dropped or changed the device section")
         library = ctypes.CDLL(plugin)
         library.psc_abi_version.restype = ctypes.c_uint32
         if library.psc_abi_version() == 0:
