@@ -6,6 +6,7 @@
 #include "CppSource.h"
 
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <sstream>
 #include "CacheFile.h"
@@ -98,7 +99,8 @@ namespace {
 // compileDeviceCode for a cudaSource already made.
 std::optional<CudaCompileResult> compileDeviceSource(const std::string& source, const std::string& layout,
                                                      const std::string& text, const std::string& path,
-                                                     const GameBuildOptions& options) {
+                                                     const GameBuildOptions& options,
+                                                     const std::function<void()>& meanwhile = {}) {
     const std::string key = deviceCodeKey(source, options);
     const fs::path dir = options.build.cacheDir.empty() ? defaultCacheDir() : options.build.cacheDir;
     const fs::path cubinPath = dir / (key + ".cubin");
@@ -121,7 +123,7 @@ std::optional<CudaCompileResult> compileDeviceSource(const std::string& source, 
         fmt::print(stderr, "{}: error: the CUDA compiler {} is not available: {}\n", path, options.cuda.compiler, problem);
         return std::nullopt;
     }
-    CudaCompileResult r = compileCuda(source, sha1Hex(text).substr(0, 12), options.cuda);
+    CudaCompileResult r = compileCuda(source, sha1Hex(text).substr(0, 12), options.cuda, meanwhile);
     if (options.build.verbose) {
         std::string opts;
         for (const auto& o : r.options) opts += " " + o;
@@ -177,7 +179,8 @@ std::unique_ptr<Plugin> loadPlugin(const ir::Game& game, const std::string& text
         if (host.cached()) {
             built = host.finish();
         } else {
-            const auto device = compileDeviceSource(deviceSource, codegen::gpuStateLayout(game, so), text, path, options);
+            const auto device = compileDeviceSource(deviceSource, codegen::gpuStateLayout(game, so), text, path, options,
+                                                    [&] { host.advance(); });
             if (!device) return nullptr;
             psc_host::DeviceImage image;
             image.cubin.assign(device->cubin.begin(), device->cubin.end());

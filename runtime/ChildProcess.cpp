@@ -120,8 +120,11 @@ std::string findProgram(const std::string& name) {
 }
 
 // Waits until `fd` is readable or the wall-clock limit (0: none) counted
-// from `start` has passed; false at the limit.
-bool waitReadable(int fd, double wallSeconds, std::chrono::steady_clock::time_point start) {
+// from `start` has passed; false at the limit.  `meanwhile`, where given,
+// runs every kMeanwhileMs while it waits.
+constexpr int kMeanwhileMs = 5;
+bool waitReadable(int fd, double wallSeconds, std::chrono::steady_clock::time_point start,
+                  const std::function<void()>& meanwhile = {}) {
     for (;;) {
         int waitMs = -1;
         if (wallSeconds > 0) {
@@ -129,9 +132,11 @@ bool waitReadable(int fd, double wallSeconds, std::chrono::steady_clock::time_po
             if (left <= 0) return false;
             waitMs = static_cast<int>(left * 1000) + 1;
         }
+        if (meanwhile && (waitMs < 0 || waitMs > kMeanwhileMs)) waitMs = kMeanwhileMs;
         pollfd pfd{fd, POLLIN, 0};
         const int ready = poll(&pfd, 1, waitMs);
         if (ready > 0 || (ready < 0 && errno != EINTR)) return true;  // the read that follows says which
+        if (ready == 0 && meanwhile) meanwhile();
     }
 }
 
@@ -201,6 +206,12 @@ RunningChild& RunningChild::operator=(RunningChild&& other) noexcept {
 
 RunningChild::~RunningChild() { stop(); }
 
+bool RunningChild::ended() const {
+    if (supervisor_ <= 0) return true;
+    pollfd pfd{statusFd_, POLLIN, 0};
+    return poll(&pfd, 1, 0) != 0;  // its report, or the supervisor gone
+}
+
 void RunningChild::stop() {
     if (supervisor_ <= 0) return;
     kill(-supervisor_, SIGKILL);
@@ -255,7 +266,8 @@ ChildResult runChild(const std::vector<std::string>& argv, const std::string& lo
     return startChild(argv, logPath, limits).wait();
 }
 
-ChildResult runForked(const std::function<std::string()>& work, std::string* output, double wallSeconds) {
+ChildResult runForked(const std::function<std::string()>& work, std::string* output, double wallSeconds,
+                      const std::function<void()>& meanwhile) {
     ChildResult r;
     const auto start = std::chrono::steady_clock::now();
     output->clear();
@@ -298,7 +310,7 @@ ChildResult runForked(const std::function<std::string()>& work, std::string* out
             std::memcpy(&size, received.data(), sizeof size);
             if (received.size() - sizeof size >= size) break;
         }
-        if (!waitReadable(pipeFds[0], wallSeconds, start)) {
+        if (!waitReadable(pipeFds[0], wallSeconds, start, meanwhile)) {
             r.timedOut = true;
             break;
         }

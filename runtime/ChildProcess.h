@@ -43,6 +43,8 @@ public:
     ~RunningChild();
 
     ChildResult wait();
+    // Whether wait() would return at once: the child has ended (or was never started).
+    bool ended() const;
 
 private:
     friend RunningChild startChild(const std::vector<std::string>&, const std::string&, const ChildLimits&);
@@ -72,7 +74,10 @@ ChildResult runChild(const std::vector<std::string>& argv, const std::string& lo
 // limit: a sanitizer's shadow memory already spans more address space than
 // any limit would allow.  Call it while psc runs no other thread (the copy
 // has only the calling one, and a lock another held would stay locked).
-ChildResult runForked(const std::function<std::string()>& work, std::string* output, double wallSeconds);
+// `meanwhile`, where given, runs in psc every few milliseconds while the copy
+// works (to start the next step of a build whose other parts are done).
+ChildResult runForked(const std::function<std::string()>& work, std::string* output, double wallSeconds,
+                      const std::function<void()>& meanwhile = {});
 
 // The program's path: `name` when it has a '/', else its first match in PATH;
 // empty when there is none.

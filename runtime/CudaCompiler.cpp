@@ -355,7 +355,8 @@ bool unpack(std::string_view bytes, CudaCompileResult& r) {
 
 }  // namespace
 
-CudaCompileResult compileCuda(const std::string& source, const std::string& name, const CudaCompileOptions& options) {
+CudaCompileResult compileCuda(const std::string& source, const std::string& name, const CudaCompileOptions& options,
+                              const std::function<void()>& meanwhile) {
     CudaCompileResult r;
     const auto start = std::chrono::steady_clock::now();
     // The source's cap on registers a thread (codegen/CppSource.cpp), for
@@ -381,7 +382,7 @@ CudaCompileResult compileCuda(const std::string& source, const std::string& name
                 inChild.ok = nvrtc->compile(source, name, unitOptions, units, inChild);
                 return pack(inChild);
             },
-            &packed, wall);
+            &packed, wall, meanwhile);
         if (child.timedOut) {
             r.timedOut = true;
             r.log = fmt::format("NVRTC {}\n", limitMessage(child, ChildLimits{wall, 0}, ""));

@@ -7,6 +7,7 @@
 // nvcc compiles it as one program.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,9 @@ int compileUnitsOf(const std::string& source);
 bool cudaCompilerAvailable(const std::string& compiler);
 // Why cudaCompilerAvailable(compiler) is false, in words ("" when it is true).
 std::string cudaCompilerProblem(const std::string& compiler);
-CudaCompileResult compileCuda(const std::string& source, const std::string& name, const CudaCompileOptions& options);
+// `meanwhile`, where given, runs every few milliseconds while NVRTC works (a
+// plugin build's host side goes on meanwhile: PluginBuild::advance).
+CudaCompileResult compileCuda(const std::string& source, const std::string& name, const CudaCompileOptions& options,
+                              const std::function<void()>& meanwhile = {});
 
 }  // namespace psc

@@ -156,6 +156,41 @@ PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options,
     // (runForked) may start next, and a copy made while another thread ran
     // could inherit a lock that thread held (a sanitizer's allocator's).
     for (auto& step : steps_) step.running = startChild(step.argv, step.log, limits_);
+    compileSteps_ = steps_.size();
+}
+
+void PluginBuild::collectCompiles() {
+    if (collected_) return;
+    collected_ = true;
+    for (size_t k = 0; k < compileSteps_; ++k) {
+        steps_[k].result = steps_[k].running.wait();
+        result_.unitSeconds.push_back(steps_[k].result.seconds);
+    }
+}
+
+bool PluginBuild::compilesOk() const {
+    return std::all_of(steps_.begin(), steps_.begin() + static_cast<std::ptrdiff_t>(compileSteps_),
+                       [](const Step& s) { return s.result.ok(); });
+}
+
+void PluginBuild::startLink() {
+    std::vector<std::string> link = words(compiler_);
+    for (const auto& a : {"-shared", "-pthread", "-o"}) link.push_back(a);
+    link.push_back((dir_ / (unique_ + ".so")).string());
+    for (const auto& o : objects_) link.push_back(o.string());
+    for (const auto& a : hostLinkArguments()) link.push_back(a);
+    addStep(std::move(link));
+    steps_.back().running = startChild(steps_.back().argv, steps_.back().log, limits_);
+    linkStarted_ = true;
+}
+
+void PluginBuild::advance() {
+    if (done_ || linkedAtOnce_ || linkStarted_) return;
+    for (size_t k = 0; k < compileSteps_; ++k) {
+        if (!steps_[k].running.ended()) return;
+    }
+    collectCompiles();
+    if (compilesOk()) startLink();
 }
 
 PluginBuild::~PluginBuild() {
@@ -210,27 +245,20 @@ void PluginBuild::cleanUp() {
 
 BuildResult PluginBuild::finish(const std::string& deviceImage) {
     if (done_) return result_;
+    collectCompiles();
     done_ = true;
-    for (auto& step : steps_) {
-        step.result = step.running.wait();
-        result_.unitSeconds.push_back(step.result.seconds);
-    }
     auto runLast = [&] {
         steps_.back().result = runChild(steps_.back().argv, steps_.back().log, limits_);
         return steps_.back().result;
     };
-    bool ok = std::all_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.result.ok(); });
+    bool ok = compilesOk();
     const fs::path tmp = dir_ / (unique_ + ".so");
     if (ok && !linkedAtOnce_) {
-        std::vector<std::string> link = words(compiler_);
-        for (const auto& a : {"-shared", "-pthread", "-o"}) link.push_back(a);
-        link.push_back(tmp.string());
-        for (const auto& o : objects_) link.push_back(o.string());
-        for (const auto& a : hostLinkArguments()) link.push_back(a);
-        addStep(std::move(link));
-        const ChildResult linked = runLast();
-        ok = linked.ok();
-        result_.linkSeconds = linked.seconds;
+        if (!linkStarted_) startLink();
+        Step& link = steps_[compileSteps_];
+        link.result = link.running.wait();
+        ok = link.result.ok();
+        result_.linkSeconds = link.result.seconds;
     }
     if (ok && !deviceImage.empty()) {
         // A section the loader leaves alone, added in place; objcopy ships with

@@ -40,7 +40,8 @@ struct BuildResult {
 
 // A plugin build under way: the constructor starts compiling `source` (unless
 // the cache holds the plugin) and, where one process compiles it, linking it,
-// and returns; finish() waits, links the objects of several processes, adds
+// and returns; advance() links the objects of several processes as soon as
+// they are compiled; finish() waits, links them if advance() did not, adds
 // `deviceImage` (a CUDA plugin's device code, which NVRTC makes meanwhile:
 // plugin_host/DeviceImage.h) to the plugin as a section, and caches the
 // plugin.  `extraKey` names what deviceImage will hold, for the cache key.
@@ -52,6 +53,9 @@ public:
     PluginBuild& operator=(const PluginBuild&) = delete;
 
     bool cached() const { return result_.cached; }
+    // Starts the link of several processes' objects once they are all
+    // compiled, without waiting for them: called while NVRTC works.
+    void advance();
     BuildResult finish(const std::string& deviceImage = "");
 
     struct Step {
@@ -67,6 +71,9 @@ private:
     void addStep(std::vector<std::string> argv);
     void addObject(const std::filesystem::path& source, std::vector<std::string> arguments);
     void cleanUp();
+    void collectCompiles();
+    bool compilesOk() const;
+    void startLink();
     std::vector<std::string> hostLinkArguments() const;
 
     BuildOptions options_;
@@ -83,6 +90,9 @@ private:
     std::vector<Step> steps_;
     std::vector<std::filesystem::path> objects_;
     bool linkedAtOnce_ = false;  // one process: it makes the plugin itself
+    size_t compileSteps_ = 0;    // steps_[0, compileSteps_) compile; the link, where started, follows
+    bool collected_ = false;     // the compile steps' results are in
+    bool linkStarted_ = false;
     bool done_ = false;
     BuildResult result_;
 };
