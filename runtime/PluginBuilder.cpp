@@ -145,7 +145,7 @@ PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options,
     const int processes = static_cast<int>(std::min<unsigned>(cores, static_cast<unsigned>(units)));
     if (processes == 1) {
         // Compiled and linked at once (a CUDA plugin's device code is added to it afterwards: finish).
-        std::vector<std::string> arguments = {"-shared", "-o", (dir_ / (unique_ + ".so")).string(), source_.string()};
+        std::vector<std::string> arguments = {"-shared", "-o", linkedPath().string(), source_.string()};
         for (const auto& a : hostLinkArguments()) arguments.push_back(a);
         addStep(compileCommand(arguments));
         linkedAtOnce_ = true;
@@ -158,6 +158,8 @@ PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options,
     for (auto& step : steps_) step.running = startChild(step.argv, step.log, limits_);
     compileSteps_ = steps_.size();
 }
+
+fs::path PluginBuild::linkedPath() const { return dir_ / (unique_ + ".so"); }
 
 void PluginBuild::collectCompiles() {
     if (collected_) return;
@@ -176,7 +178,7 @@ bool PluginBuild::compilesOk() const {
 void PluginBuild::startLink() {
     std::vector<std::string> link = words(compiler_);
     for (const auto& a : {"-shared", "-pthread", "-o"}) link.push_back(a);
-    link.push_back((dir_ / (unique_ + ".so")).string());
+    link.push_back(linkedPath().string());
     for (const auto& o : objects_) link.push_back(o.string());
     for (const auto& a : hostLinkArguments()) link.push_back(a);
     addStep(std::move(link));
@@ -247,12 +249,8 @@ BuildResult PluginBuild::finish(const std::string& deviceImage) {
     if (done_) return result_;
     collectCompiles();
     done_ = true;
-    auto runLast = [&] {
-        steps_.back().result = runChild(steps_.back().argv, steps_.back().log, limits_);
-        return steps_.back().result;
-    };
     bool ok = compilesOk();
-    const fs::path tmp = dir_ / (unique_ + ".so");
+    const fs::path tmp = linkedPath();
     if (ok && !linkedAtOnce_) {
         if (!linkStarted_) startLink();
         Step& link = steps_[compileSteps_];
@@ -269,9 +267,10 @@ BuildResult PluginBuild::finish(const std::string& deviceImage) {
             ok = false;
         } else {
             addStep({"objcopy", "--add-section", std::string(psc_host::kDeviceImageSection) + "=" + deviceImage_.string(), tmp.string()});
-            const ChildResult added = runLast();
-            ok = added.ok();
-            result_.deviceCodeSeconds = added.seconds;
+            Step& added = steps_.back();
+            added.result = runChild(added.argv, added.log, limits_);
+            ok = added.result.ok();
+            result_.deviceCodeSeconds = added.result.seconds;
         }
     }
     for (const auto& step : steps_) {

@@ -74,6 +74,8 @@ private:
     void collectCompiles();
     bool compilesOk() const;
     void startLink();
+    // Where the plugin is linked, before it moves into the cache.
+    std::filesystem::path linkedPath() const;
     std::vector<std::string> hostLinkArguments() const;
 
     BuildOptions options_;
