@@ -417,6 +417,7 @@ void emitTables(CodeWriter& out, const Game& g, const SourceOptions& o) {
         for (int id : ids) names += (names.empty() ? "" : ", ") + g.objects[static_cast<size_t>(id)].name;
         out.line(fmt::format("// layer {}: {}", L, names));
         out.open(fmt::format("PSC_DEVICE {}bool putLayer{}(Env& e, int p, int keep)", ids.size() <= 2 ? "PSC_INLINE " : "PSC_LAYER ", L));
+        out.line("PSC_ON_STACK(e);");
         out.line("bool ch = false;");
         for (int id : ids) out.line(fmt::format("ch |= e.obj[{0}].assign(p, keep == {0});", id));
         out.line("(void)keep;");

@@ -420,6 +420,18 @@ void emitRowSetup(CodeWriter& out, const Rule& rule, const std::string& noMatch)
     out.line("if (" + joinWith(empty, " || ") + ") return " + noMatch + ";");
 }
 
+// A rule function's first lines: one out of line (PSC_RULE_APART) is told
+// that its state lies on the stack (PSC_ON_STACK, templates/core.h); one
+// inlined sees where its caller's state lies.
+void emitStatePrologue(CodeWriter& out, const std::string& kind) {
+    if (kind == "PSC_RULE_APART") {
+        out.line("PSC_ON_STACK(e);");
+        out.line("PSC_ON_STACK(t);");
+    } else {
+        out.line("(void)t;");
+    }
+}
+
 // `layersExclusive`: layersHoldOneObject(g), so that a cell's pattern tells what it holds.
 void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames& names, bool inRandomGroup,
               const std::vector<std::string>& messages, const std::string& kind, bool layersExclusive) {
@@ -427,7 +439,7 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
     const uint32_t commands = commandBits(rule);
     if (!inRandomGroup) {
         out.open("PSC_DEVICE " + kind + " bool " + names.apply + "(Env& e, Turn& t)");
-        out.line("(void)t;");
+        emitStatePrologue(out, kind);
         emitRowSetup(out, rule, "false");
         out.line("bool changed = false;");
         if (const std::optional<WriterCell> writer = appliesAtOnce(g, rule, layersExclusive)) {
@@ -467,6 +479,7 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
 
     // In a random group: count the candidates, and apply the n-th.
     out.open("PSC_DEVICE " + kind + " long long " + names.count + "(const Env& e)");
+    if (kind == "PSC_RULE_APART") out.line("PSC_ON_STACK(e);");
     emitRowSetup(out, rule, "0");
     if (!hasEllipsis(rule)) {
         std::vector<std::string> counts;
@@ -481,7 +494,7 @@ void emitRule(CodeWriter& out, const Game& g, const Rule& rule, const RuleNames&
     out.line();
 
     out.open("PSC_DEVICE " + kind + " bool " + names.nth + "(Env& e, Turn& t, long long n)");
-    out.line("(void)t;");
+    emitStatePrologue(out, kind);
     emitRowSetup(out, rule, "false");
     out.line("bool changed = false;");
     out.line("long long index = 0;");
@@ -859,8 +872,8 @@ void emitApplyRules(CodeWriter& out, const Game& g, const std::vector<ir::RuleGr
     out.line("PSC_DEVICE PSC_TURN void " + fn + "(Env& e, Turn& t);");
     out.raw("#if PSC_DEFINES_TURN\n");
     out.open("PSC_DEVICE PSC_TURN void " + fn + "(Env& e, Turn& t)");
-    out.line("(void)e;");
-    out.line("(void)t;");
+    out.line("PSC_ON_STACK(e);");
+    out.line("PSC_ON_STACK(t);");
     if (!spans.empty()) {
         for (const auto& span : spans) {
             if (span.late == late) out.line(span.name + "(e, t);");

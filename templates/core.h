@@ -577,6 +577,22 @@ constexpr unsigned kSharedEnvStride = static_cast<unsigned>(((sizeof(Env) + 7) /
 // hold (about 270,000 on an H100) and allows 512 kB at most.
 constexpr bool kEnvInBatch = !PSC_STATE_IN_REGISTERS && !PSC_STATE_IN_SHARED && sizeof(Env) > 128 * 1024;
 
+// Where the GPU steps an environment on its thread's stack (not in the batch
+// or in shared memory), every kernel does (templates/cuda_kernels.h), and a
+// turn's scratch lies there too (TurnScratchSlot).  A function compiled in one
+// unit and called from another sees a reference of unknown address space, and
+// NVVM then reads and writes through generic addresses; PSC_ON_STACK tells it
+// that the reference is on the stack, so that it uses local loads and stores.
+constexpr bool kStateOnStack = !PSC_STATE_IN_SHARED && !kEnvInBatch;
+#if defined(__CUDA_ARCH__)
+#define PSC_ON_STACK(x)                                          \
+    do {                                                         \
+        if constexpr (kStateOnStack) __builtin_assume(__isLocal(&(x))); \
+    } while (0)
+#else
+#define PSC_ON_STACK(x) ((void)(x))
+#endif
+
 // What a turn keeps while it runs (the reference's turn-local variables).
 struct Turn {
 #if PSC_HAS_RIGID
@@ -635,6 +651,8 @@ struct GroupWorkingCopy {
 // body works on `e` and `t`, copies or the originals.
 #if PSC_GROUP_COPIES_STATE
 #define PSC_GROUP_WORKING_COPY(env, turn)     \
+    PSC_ON_STACK(env);                        \
+    PSC_ON_STACK(turn);                       \
     GroupWorkingCopy working_(env, turn);     \
     Env& e = working_.e;                      \
     Turn& t = working_.t
@@ -643,6 +661,8 @@ struct GroupWorkingCopy {
 #endif
 // A group that works on the state where it lies.
 #define PSC_GROUP_IN_PLACE(env, turn) \
+    PSC_ON_STACK(env);                \
+    PSC_ON_STACK(turn);               \
     Env& e = env;                     \
     Turn& t = turn
 

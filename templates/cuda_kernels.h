@@ -73,7 +73,9 @@ extern "C" __global__ void psc_reset_kernel(psc_game::DeviceBatch b, const int* 
     const int k = blockIdx.x * blockDim.x + threadIdx.x;
     if (k >= count) return;
     const int i = ids[k];
-    Env& e = b.envs[i];
+    // On the stack where the turns expect it (PSC_ON_STACK, templates/core.h).
+    SteppedEnv<kStateOnStack ? EnvHome::kStack : EnvHome::kBatch> started(b.envs[i]);
+    Env& e = started.e;
     e.levelEntry = entries[k];
 #if PSC_USES_RANDOM
     for (int c = 0; c < kSeedUnits; ++c) e.seed[c] = seeds[k * kSeedUnits + c];
@@ -87,6 +89,7 @@ extern "C" __global__ void psc_reset_kernel(psc_game::DeviceBatch b, const int* 
     u.head = 0;
     startEpisode(e, u);
     keepUndo(b, i, u);
+    started.keep(b.envs[i]);
 }
 #endif
 

@@ -128,6 +128,7 @@ PSC_DEVICE PSC_COLD void doUndo(Env& e, UndoStack& u, bool force, bool ignoreDup
 
 #if PSC_DEFINES_LEVEL_CHANGES
 PSC_DEVICE PSC_LEVEL_CHANGE void doRestart(Env& e, UndoStack& u, bool force) {
+    PSC_ON_STACK(e);
     if (e.restarting) return;
     if (!force && kNoRestart) return;
     if (e.againing) doUndo(e, u, force, true);
@@ -181,6 +182,7 @@ PSC_DEVICE PSC_COLD void loadEntry(Env& e, UndoStack& u) {
 
 #if PSC_DEFINES_LEVEL_CHANGES
 PSC_DEVICE PSC_LEVEL_CHANGE void nextLevel(Env& e, UndoStack& u) {
+    PSC_ON_STACK(e);
     e.againing = 0;
     if (e.titleScreen) {
         e.entry = 0;
@@ -461,6 +463,7 @@ constexpr bool kTurnMayRestoreLevel =
 PSC_DEVICE PSC_TURN void playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin, int* againTurns);
 #if PSC_DEFINES_TURN
 PSC_DEVICE PSC_TURN void playTurn(Env& e, UndoStack& u, int dir, bool dontDoWin, int* againTurns) {
+    PSC_ON_STACK(e);
     bool dryRun = false;
     for (;;) {
         TurnScratchSlot<> scratch(u);
@@ -644,6 +647,7 @@ PSC_DEVICE PSC_COLD void startEpisode(Env& e, UndoStack& u) {
 
 #if PSC_DEFINES_LEVEL_CHANGES
 PSC_DEVICE PSC_LEVEL_CHANGE void stepEvent(Env& e, UndoStack& u, bool newEpisode, int action) {
+    PSC_ON_STACK(e);
     if (newEpisode) startEpisode(e, u);
     else undoOrRestart(e, u, action);
 }
