@@ -577,12 +577,13 @@ constexpr unsigned kSharedEnvStride = static_cast<unsigned>(((sizeof(Env) + 7) /
 // hold (about 270,000 on an H100) and allows 512 kB at most.
 constexpr bool kEnvInBatch = !PSC_STATE_IN_REGISTERS && !PSC_STATE_IN_SHARED && sizeof(Env) > 128 * 1024;
 
-// Where the GPU steps an environment on its thread's stack (not in the batch
-// or in shared memory), every kernel does (templates/cuda_kernels.h), and a
-// turn's scratch lies there too (TurnScratchSlot).  A function compiled in one
-// unit and called from another sees a reference of unknown address space, and
-// NVVM then reads and writes through generic addresses; PSC_ON_STACK tells it
-// that the reference is on the stack, so that it uses local loads and stores.
+// Whether every GPU kernel steps its environment on the thread's stack (a
+// copy there, templates/cuda_kernels.h; not in the batch, not in shared
+// memory), where the turn's scratch lies too (TurnScratchSlot).  A function
+// compiled in one unit and called from another gets references of unknown
+// address space, which NVVM reads and writes through generic addresses;
+// PSC_ON_STACK tells it that the reference is on the stack, so that it uses
+// local loads and stores.
 constexpr bool kStateOnStack = !PSC_STATE_IN_SHARED && !kEnvInBatch;
 #if defined(__CUDA_ARCH__)
 #define PSC_ON_STACK(x)                                          \
