@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include "CacheFile.h"
+#include "CubinRegisters.h"
 #include "Diagnose.h"
 #include "base/Sha1.h"
 #include "plugin_host/DeviceImage.h"
@@ -76,6 +77,22 @@ void printResourceReport(const std::string& log) {
     }
 }
 
+// The registers a thread of the linked kernels, and of the functions that
+// take the most: a kernel takes as many as the most of anything it calls,
+// and those set how many of its warps an SM holds.
+void printRegisters(const std::vector<char>& cubin) {
+    const std::vector<FunctionRegisters> all = cubinRegisters(std::string_view(cubin.data(), cubin.size()));
+    if (all.empty()) return;
+    std::vector<std::string> kernels, functions;
+    for (const FunctionRegisters& f : all) {
+        const std::string entry = fmt::format("{} {}", readableFunctionName(f.name), f.registers);
+        if (f.kernel) kernels.push_back(entry);
+        else if (functions.size() < 4) functions.push_back(entry);
+    }
+    fmt::print(stderr, "psc: registers a thread, linked: kernels {}; the functions that take the most {}\n",
+               fmt::join(kernels, ", "), functions.empty() ? std::string("(none)") : fmt::format("{}", fmt::join(functions, ", ")));
+}
+
 // Where a plugin build's time went, for --verbose.
 std::string buildTimes(const BuildResult& built) {
     if (built.cached) return "from the cache";
@@ -116,7 +133,10 @@ std::optional<CudaCompileResult> compileDeviceSource(const std::string& source, 
         r.units = static_cast<int>(r.ptx.size());
         r.log = readFile(logPath);
         r.stackBytes = stackBound(r.log, r.ptx);
-        if (options.build.verbose) fmt::print(stderr, "psc: CUDA code from the cache ({})\n", cubinPath.string());
+        if (options.build.verbose) {
+            fmt::print(stderr, "psc: CUDA code from the cache ({})\n", cubinPath.string());
+            printRegisters(r.cubin);
+        }
         return r;
     }
     if (const std::string problem = cudaCompilerProblem(options.cuda.compiler); !problem.empty()) {
@@ -137,7 +157,10 @@ std::optional<CudaCompileResult> compileDeviceSource(const std::string& source, 
                        r.units, r.units - 1, link, times);
         }
         printResourceReport(r.log);
-        if (r.ok) fmt::print(stderr, "psc: kernels' stack: at most {} bytes a thread (stackBound)\n", r.stackBytes);
+        if (r.ok) {
+            printRegisters(r.cubin);
+            fmt::print(stderr, "psc: kernels' stack: at most {} bytes a thread (stackBound)\n", r.stackBytes);
+        }
     }
     if (!r.ok) {
         fmt::print(stderr, "{}: error: compiling the CUDA code failed\n{}\n", path, r.log);

@@ -1,6 +1,10 @@
 // The CUDA compiler wrapper: NVRTC's verdicts and the stack bound read from ptxas.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <string_view>
+
+#include "CubinRegisters.h"
 #include "CudaCompiler.h"
 #include "Templates.h"
 
@@ -75,6 +79,71 @@ TEST_CASE("NVRTC compiles a source's compile units separately and links them int
     const CudaCompileResult unresolved = compileCuda(missing, "missing", {});
     CHECK_FALSE(unresolved.ok);
     CHECK(unresolved.log.find("linking the compile units failed") != std::string::npos);
+}
+
+namespace {
+
+// A kernel in unit 0 that calls a function of many live values and one of
+// few, both in unit 1.
+const char* kHeavyAndLight =
+    "#define PSC_COMPILE_UNITS 2\n"
+    "namespace psc_game {\n"
+    "__device__ unsigned heavy(const unsigned* p);\n"
+    "__device__ unsigned light(unsigned x);\n"
+    "}\n"
+    "#if PSC_UNIT == 1\n"
+    "namespace psc_game {\n"
+    "__device__ __noinline__ unsigned heavy(const unsigned* p) {\n"
+    "    unsigned v[64];\n"
+    "#pragma unroll\n"
+    "    for (int i = 0; i < 64; ++i) v[i] = p[i * 37];\n"
+    "    unsigned s = 0;\n"
+    "#pragma unroll\n"
+    "    for (int i = 0; i < 64; ++i) s = s * 31u + (v[i] ^ v[63 - i]) * v[(i * 7) % 64];\n"
+    "    return s;\n"
+    "}\n"
+    "__device__ __noinline__ unsigned light(unsigned x) { return x + 1; }\n"
+    "}\n"
+    "#endif\n"
+    "#if PSC_UNIT == 0\n"
+    "extern \"C\" __global__ void k(unsigned* p) {\n"
+    "    p[threadIdx.x] = psc_game::light(p[threadIdx.x]) + psc_game::heavy(p + threadIdx.x);\n"
+    "}\n"
+    "#endif\n";
+
+}  // namespace
+
+TEST_CASE("the linked cubin's register counts show the function that sets a kernel's", "[cuda]") {
+    REQUIRE(cudaCompilerAvailable("nvrtc"));
+    const CudaCompileResult r = compileCuda(kHeavyAndLight, "registers", {});
+    INFO(r.log);
+    REQUIRE(r.ok);
+    const std::vector<FunctionRegisters> all = cubinRegisters(std::string_view(r.cubin.data(), r.cubin.size()));
+    auto named = [&](const std::string& name) {
+        const auto it = std::find_if(all.begin(), all.end(), [&](const FunctionRegisters& f) {
+            return readableFunctionName(f.name) == name;
+        });
+        REQUIRE(it != all.end());
+        return *it;
+    };
+    const FunctionRegisters k = named("k");
+    const FunctionRegisters heavy = named("heavy");
+    const FunctionRegisters light = named("light");
+    CHECK(k.kernel);
+    CHECK_FALSE(heavy.kernel);
+    CHECK_FALSE(light.kernel);
+    CHECK(heavy.registers > light.registers);
+    // Linked from units, the kernel takes the most that anything it calls takes.
+    CHECK(k.registers == heavy.registers);
+    for (size_t i = 1; i < all.size(); ++i) CHECK(all[i - 1].registers >= all[i].registers);
+
+    // Not a cubin, or a cut one: nothing, and nothing read past its end.
+    CHECK(cubinRegisters("").empty());
+    CHECK(cubinRegisters("\x7f" "ELF not really an ELF file, but long enough to have a header of sixty-four").empty());
+    const std::string_view whole(r.cubin.data(), r.cubin.size());
+    CHECK(cubinRegisters(whole.substr(0, whole.size() / 2)).empty());
+    CHECK(readableFunctionName("_ZN8psc_game12group_5_L149ERNS_3EnvERNS_4TurnE") == "group_5_L149");
+    CHECK(readableFunctionName("psc_run_kernel") == "psc_run_kernel");
 }
 
 TEST_CASE("the stack bound is the heaviest chain of calls from a kernel, a cycle kMaxTurnNesting times", "[cuda]") {
