@@ -751,9 +751,19 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
     GpuCode gpu;
     if (form.table) {
         // The interpreter reads boards by run-time index, which would leave
-        // registers anyway, and its code is small: one program.
+        // registers anyway.  Its code is small, but as one program every
+        // kernel that runs a turn (stepping, and a reset's level-start turn)
+        // inlined it and ptxas compiled it once for each: 10-70 s of NVRTC
+        // on the development machine for six corpus games drawn from the 105
+        // whose rules are a table.  So the turn has a unit of its own, unless
+        // --cuda-units 1 asks for one program (docs/performance.md).
         gpu.inRegisters = options.gpuState == "registers";
         gpu.inShared = options.gpuState == "shared";
+        if (!gpu.inRegisters && options.cudaUnits != 1) {
+            gpu.turnUnit = 1;
+            gpu.units = 2;
+            gpu.rules.units = 1;
+        }
         return gpu;
     }
     if (options.gpuState != "auto") {

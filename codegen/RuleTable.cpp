@@ -267,8 +267,17 @@ void emitRuleTableData(CodeWriter& out, const Game& game) {
 }
 
 void emitRuleTableGroups(CodeWriter& out) {
-    out.line("PSC_DEVICE PSC_TURN void applyEarlyRules(Env& e, Turn& t) { tableApplyGroups(e, t, kEarlyGroups, kEarlyGroupNeeds, kEarlyGroupCount); }");
-    out.line("PSC_DEVICE PSC_TURN void applyLateRules(Env& e, Turn& t) { tableApplyGroups(e, t, kLateGroups, kLateGroupNeeds, kLateGroupCount); }");
+    // Compiled in the turn's unit (PSC_DEFINES_TURN, templates/core.h), declared for all.
+    for (const char* phase : {"Early", "Late"}) {
+        out.line(fmt::format("PSC_DEVICE PSC_TURN void apply{}Rules(Env& e, Turn& t);", phase));
+        out.raw("#if PSC_DEFINES_TURN\n");
+        out.open(fmt::format("PSC_DEVICE PSC_TURN void apply{}Rules(Env& e, Turn& t)", phase));
+        out.line("PSC_ON_STACK(e);");
+        out.line("PSC_ON_STACK(t);");
+        out.line(fmt::format("tableApplyGroups(e, t, k{0}Groups, k{0}GroupNeeds, k{0}GroupCount);", phase));
+        out.close();
+        out.raw("#endif\n");
+    }
     out.line();
 }
 

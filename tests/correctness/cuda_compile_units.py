@@ -4,7 +4,9 @@ several NVRTC programs must define each rule and group function in exactly one
 unit, the kernels in unit 0 and the turn in the last unit (PSC_TURN_UNIT)
 alone, link into one cubin, and come out the same every time.  The registers
 layout's two units: the stepping kernel alone in unit 0, the other kernels
-and the level changes it calls in unit 1.
+and the level changes it calls in unit 1.  Rules as a table (`--rules
+table`): two units, the kernels in unit 0 and the turn, with the table's
+interpreter, in unit 1 alone, so that no kernel inlines the turn.
 
     cuda_compile_units.py PSC GAME... [--units N]
 
@@ -128,6 +130,25 @@ def check_registers(psc, game, failures):
         print(f"{os.path.basename(game)}: registers layout in 2 units, unit 1 exports {sorted(exported[1])}")
 
 
+def check_table(psc, game, failures):
+    base = [psc, game, "--levels", "0", "--rules", "table"]
+    source = subprocess.run(base + ["--emit", "cuda"], capture_output=True, text=True, timeout=120).stdout
+    if "#define PSC_COMPILE_UNITS 2 " not in source or "#define PSC_TURN_UNIT 1 " not in source:
+        failures.append(f"{game}: rules as a table should compile as two units, the turn in unit 1")
+        return
+    linked = linked_units(base, failures, f"{game}, table", 2)
+    if not linked:
+        return
+    visible, entries = linked
+    exported = [{demangled(n) for n in v} for v in visible]
+    if entries[0] != ["psc_observe_kernel", "psc_reset_kernel", "psc_run_kernel"] or entries[1]:
+        failures.append(f"{game}: rules as a table: the kernels must all be in unit 0, found {entries}")
+    elif not TURN_FUNCTIONS <= exported[1] or TURN_FUNCTIONS & exported[0]:
+        failures.append(f"{game}: rules as a table: the turn must be exported from unit 1 alone, found {exported}")
+    else:
+        print(f"{os.path.basename(game)}: rules as a table in 2 units, unit 1 exports {sorted(TURN_FUNCTIONS)}")
+
+
 # A group of LONG_GROUP_RULES rules (each in four directions), heavier than
 # kInlinedGroupWeight over 5-word boards; the game's own rules stay a small group.
 LONG_GROUP_RULES = 12
@@ -207,6 +228,7 @@ def main():
     for game in a.games:
         check(a.psc, game, a.units, failures)
         check_registers(a.psc, game, failures)
+        check_table(a.psc, game, failures)
     check_inlined_groups(a.psc, a.games[-1], failures)
     for f in failures:
         print("FAIL", f)
