@@ -762,7 +762,6 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
         if (!gpu.inRegisters && options.cudaUnits != 1) {
             gpu.turnUnit = 1;
             gpu.units = 2;
-            gpu.rules.units = 1;
         }
         return gpu;
     }

@@ -564,6 +564,23 @@ struct Env {
     u16 seed[kSeedUnits];    // the level seed (UTF-16 code units), reused at every level load
     u8 seedLength;
 #endif
+#if defined(__CUDA_ARCH__) && !PSC_UNROLL_BOARD_WORDS
+    // Copied as one loop over its words: member-wise, with Board's own copy
+    // a loop (above), it was one loop a board, and NVVM took 5-6 s over each
+    // kernel that copies an environment of a large level (a 56-word level of
+    // 68 objects, the development machine).  Boards that unroll keep the
+    // implicit copy, which the registers layout needs to keep the state in
+    // registers.
+    Env() = default;
+    PSC_DEVICE PSC_INLINE Env(const Env& o) { *this = o; }
+    PSC_DEVICE PSC_INLINE Env& operator=(const Env& o) {
+        static_assert(sizeof(Env) % sizeof(u64) == 0, "an environment is whole 64-bit words");
+        u64* to = reinterpret_cast<u64*>(this);
+        const u64* from = reinterpret_cast<const u64*>(&o);
+        PSC_UNROLL for (unsigned i = 0; i < sizeof(Env) / sizeof(u64); ++i) to[i] = from[i];
+        return *this;
+    }
+#endif
 };
 
 // With PSC_STATE_IN_SHARED the stepping kernel keeps each thread's copy of

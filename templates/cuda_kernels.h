@@ -13,30 +13,11 @@ namespace psc_game {
 enum class EnvHome { kStack, kBatch, kShared };
 constexpr EnvHome kEnvHome = PSC_STATE_IN_SHARED ? EnvHome::kShared : kEnvInBatch ? EnvHome::kBatch : EnvHome::kStack;
 
-// Copies an environment.  Over boards too large to unroll, Board's own copy
-// is a loop (templates/core.h), and Env's member-wise copy became one loop a
-// board: NVVM took 5-6 s over each kernel that copies an environment of a
-// large level (a 56-word level of 68 objects, the development machine), and
-// takes a fraction of a second over one loop over the whole environment's
-// words.  Boards that unroll keep the plain copy, which the registers layout
-// needs to keep the state in registers.
-__device__ PSC_INLINE void copyEnvironment(Env& to, const Env& from) {
-#if PSC_UNROLL_BOARD_WORDS
-    to = from;
-#else
-    static_assert(sizeof(Env) % sizeof(u64) == 0, "an environment is whole 64-bit words");
-    u64* t = reinterpret_cast<u64*>(&to);
-    const u64* f = reinterpret_cast<const u64*>(&from);
-#pragma unroll 1
-    for (unsigned i = 0; i < sizeof(Env) / sizeof(u64); ++i) t[i] = f[i];
-#endif
-}
-
 template <EnvHome Home = kEnvHome>
 struct SteppedEnv {
     Env e;
-    __device__ PSC_INLINE explicit SteppedEnv(const Env& batchEnv) { copyEnvironment(e, batchEnv); }
-    __device__ PSC_INLINE void keep(Env& batchEnv) const { copyEnvironment(batchEnv, e); }
+    __device__ PSC_INLINE explicit SteppedEnv(const Env& batchEnv) : e(batchEnv) {}
+    __device__ PSC_INLINE void keep(Env& batchEnv) const { batchEnv = e; }
 };
 template <>
 struct SteppedEnv<EnvHome::kBatch> {
@@ -52,9 +33,9 @@ struct SteppedEnv<EnvHome::kShared> {
     Env& e;
     __device__ PSC_INLINE explicit SteppedEnv(const Env& batchEnv)
         : e(*reinterpret_cast<Env*>(psc_shared_envs + threadIdx.x * (kSharedEnvStride / 8))) {
-        copyEnvironment(e, batchEnv);
+        e = batchEnv;
     }
-    __device__ PSC_INLINE void keep(Env& batchEnv) const { copyEnvironment(batchEnv, e); }
+    __device__ PSC_INLINE void keep(Env& batchEnv) const { batchEnv = e; }
 };
 
 __device__ PSC_INLINE UndoStack undoOf(const DeviceBatch& b, int i) {
@@ -209,8 +190,7 @@ extern "C" __global__ void psc_expand_kernel(psc_game::DeviceBatch b, int templa
     if constexpr (kExpandTooLarge) {
         flags[k] = kExpandInvalid;  // refused on the host
     } else {
-        Env e;
-        copyEnvironment(e, b.envs[templateEnv]);
+        Env e = b.envs[templateEnv];
         if (action < 0 || action >= kInputCount || keyEntry(parent) != e.entry) {
             flags[k] = kExpandInvalid;
             return;
