@@ -8,25 +8,36 @@
 // ABI call whose arguments come from the bytes after it: batches created with
 // any options, resets with any level, seed or entry, steps with any action,
 // states saved and loaded through corrupted buffers, dumps into small
-// buffers, destroys.
+// buffers, destroys; and search's calls: state keys encoded, decoded and put
+// in search's form, children expanded and distances estimated from keys with
+// words and bits changed, deadlines, and the memory psc_expand takes.
 //
-// The plugins are built by the system compiler without sanitizers, so faults
-// inside them show as crashes (SIGSEGV) rather than ASan reports.  Every
-// buffer handed to the plugin ends at a protected page (GuardedBuffer), so a
-// write or read past its size faults at once.  A call must return PSC_OK or
-// an error code with a message (psc_last_error); anything else aborts.
+// The plugins the target builds are compiled by clang with ASan, UBSan and
+// coverage, as the target itself, so that a fault inside a game's code is a
+// sanitizer report and libFuzzer is guided through the game's rules too;
+// plugins named by $PSC_FUZZ_PLUGINS are taken as they are, where faults
+// show as crashes (SIGSEGV).  Every buffer handed to the plugin ends at a
+// protected page (GuardedBuffer), so a write or read past its size faults at
+// once.  A call must return PSC_OK or
+// an error code with a message (psc_last_error); anything else aborts, as
+// does a broken promise of the search calls: an encoded key that does not
+// decode back to itself, a key in search's form that changes when put in it
+// again, a child flagged unchanged that differs from its parent, or a child's
+// hash that is not its key's.
 //
 // New ABI functions get an entry in kOperations.
 #include <fuzzer/FuzzedDataProvider.h>
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <dlfcn.h>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -96,6 +107,9 @@ LoadedGame buildGame(const std::string& path) {
     so.sourceName = path;
     so.sourceSha1 = psc::sha1Hex(text);
     psc::BuildOptions build;
+    build.compiler = "clang++";
+    build.optimization = "-O1";
+    build.flags = "-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer";
     const psc::BuildResult built = psc::buildCpuPlugin(psc::codegen::cpuPluginSource(*compiled.game, so), build);
     if (!built.ok) die("building the plugin of " + path + " failed:\n" + built.log);
     return loadPlugin(built.pluginPath, path);
@@ -138,7 +152,14 @@ struct Session {
     FuzzedDataProvider& in;
     std::array<psc_batch*, 2> batches{};
     std::array<int32_t, 2> envs{};
-    std::vector<char> saved;  // the last saved state
+    std::vector<char> saved;      // the last saved state
+    std::vector<uint64_t> keys;   // the last keys encoded or expanded
+    struct Allocation {
+        psc_batch* batch;
+        void* pointer;
+        size_t bytes;
+    };
+    std::vector<Allocation> allocations;  // psc_device_alloc's, freed before their batch
 
     const Plugin& p() const { return *game.plugin; }
 
@@ -213,6 +234,11 @@ struct Session {
     }
 
     void destroy(size_t s) {
+        for (size_t i = allocations.size(); i-- > 0;) {
+            if (allocations[i].batch != batches[s]) continue;
+            expectStatus(p().deviceFree(batches[s], allocations[i].pointer), "psc_device_free");
+            allocations.erase(allocations.begin() + static_cast<std::ptrdiff_t>(i));
+        }
         p().batchDestroy(batches[s]);
         batches[s] = nullptr;
         envs[s] = 0;
@@ -384,12 +410,214 @@ struct Session {
         expectStatus(game.extra.batchSize(b, in.ConsumeBool() ? &n : nullptr), "psc_batch_size");
     }
 
+    // ---- search: state keys and batched expansion -------------------------
+
+    size_t keyWords() const { return p().info().state_key_bytes / sizeof(uint64_t); }
+
+    void startFlags() {
+        psc_batch* b = anyBatch();
+        const int32_t env = index(envCount(b));
+        uint8_t flag = 0;
+        const bool nullOut = in.ConsumeIntegralInRange<int>(0, 15) == 0;
+        expectStatus(p().startWon(b, env, nullOut ? nullptr : &flag), "psc_start_won");
+        expectStatus(p().startCutOff(b, env, nullOut ? nullptr : &flag), "psc_start_cut_off");
+    }
+
+    // Encodes some environments' keys; every key must decode back to itself.
+    void encode() {
+        psc_batch* b = anyBatch();
+        const int32_t n = envCount(b);
+        const int32_t count = in.ConsumeIntegralInRange<int>(0, 7) == 0 ? in.ConsumeIntegralInRange<int32_t>(-2, 0)
+                                                                         : in.ConsumeIntegralInRange<int32_t>(0, kMaxEnvs);
+        const size_t length = static_cast<size_t>(std::max(count, 0));
+        GuardedBuffer ids(length * sizeof(int32_t)), out(length * keyWords() * sizeof(uint64_t)),
+            hashes(length * sizeof(uint64_t));
+        for (size_t i = 0; i < length; ++i) {
+            const int32_t id = index(n);
+            std::memcpy(ids.data() + i * 4, &id, 4);
+        }
+        const bool nullIds = in.ConsumeIntegralInRange<int>(0, 15) == 0;
+        const bool withHashes = in.ConsumeBool();
+        const int status = p().encodeStates(b, nullIds ? nullptr : reinterpret_cast<int32_t*>(ids.data()), count,
+                                            out.data(), withHashes ? reinterpret_cast<uint64_t*>(hashes.data()) : nullptr);
+        expectStatus(status, "psc_encode_states");
+        if (status != PSC_OK || length == 0) return;
+        keys.assign(reinterpret_cast<uint64_t*>(out.data()), reinterpret_cast<uint64_t*>(out.data()) + length * keyWords());
+        int32_t env = 0;
+        std::memcpy(&env, ids.data(), 4);
+        expectStatus(p().decodeState(b, env, keys.data()), "psc_decode_state");
+        std::vector<uint64_t> again(keyWords());
+        expectStatus(p().encodeStates(b, &env, 1, again.data(), nullptr), "psc_encode_states");
+        if (!std::equal(again.begin(), again.end(), keys.begin())) die("an encoded key does not decode back to itself");
+    }
+
+    // `count` keys: the last ones, or bytes of the input, with words and bits changed.
+    std::vector<uint64_t> someKeys(size_t count) {
+        const size_t words = keyWords();
+        std::vector<uint64_t> k(count * words, 0);
+        for (size_t i = 0; i < k.size(); ++i) k[i] = keys.empty() ? 0 : keys[i % keys.size()];
+        const int changes = in.ConsumeIntegralInRange<int>(0, 4);
+        for (int c = 0; c < changes && !k.empty(); ++c) {
+            const size_t at = in.ConsumeIntegralInRange<size_t>(0, k.size() - 1);
+            switch (in.ConsumeIntegralInRange<int>(0, 3)) {
+                case 0: k[at] ^= 1ull << in.ConsumeIntegralInRange<int>(0, 63); break;
+                case 1: k[at] = ~0ull; break;
+                case 2: k[at] = 0; break;
+                default: k[at] = in.ConsumeIntegral<uint64_t>(); break;
+            }
+        }
+        return k;
+    }
+
+    // Decodes a changed key into an environment, then steps it.
+    void decode() {
+        psc_batch* b = anyBatch();
+        const int32_t env = index(envCount(b));
+        const std::vector<uint64_t> k = someKeys(1);
+        GuardedBuffer key(k.size() * sizeof(uint64_t));
+        if (!k.empty()) std::memcpy(key.data(), k.data(), key.size());
+        const bool nullKey = in.ConsumeIntegralInRange<int>(0, 15) == 0;
+        expectStatus(p().decodeState(b, env, nullKey ? nullptr : key.data()), "psc_decode_state");
+    }
+
+    // Puts keys in search's form, twice: the second time must change nothing.
+    void canonical() {
+        psc_batch* b = anyBatch();
+        const size_t count = in.ConsumeIntegralInRange<size_t>(0, 3);
+        const std::vector<uint64_t> k = someKeys(count);
+        GuardedBuffer buffer(k.size() * sizeof(uint64_t)), hashes(count * sizeof(uint64_t));
+        if (!k.empty()) std::memcpy(buffer.data(), k.data(), buffer.size());
+        const bool withHashes = in.ConsumeBool();
+        auto* h = withHashes ? reinterpret_cast<uint64_t*>(hashes.data()) : nullptr;
+        const int status = p().canonicalKeys(b, buffer.data(), static_cast<int32_t>(count), h);
+        expectStatus(status, "psc_canonical_keys");
+        if (status != PSC_OK || count == 0) return;
+        std::vector<uint64_t> once(k.size()), onceHashes(count);
+        std::memcpy(once.data(), buffer.data(), buffer.size());
+        if (withHashes) std::memcpy(onceHashes.data(), hashes.data(), hashes.size());
+        expectStatus(p().canonicalKeys(b, buffer.data(), static_cast<int32_t>(count), h), "psc_canonical_keys");
+        if (std::memcmp(once.data(), buffer.data(), buffer.size()) != 0) die("psc_canonical_keys changed a key in search's form");
+        if (withHashes && std::memcmp(onceHashes.data(), hashes.data(), hashes.size()) != 0) {
+            die("psc_canonical_keys hashed one key two ways");
+        }
+    }
+
+    void deadline() {
+        static constexpr double kSeconds[] = {0.0, 1e-9, 1e-3, 60.0, -1.0, 1e10, std::numeric_limits<double>::quiet_NaN(),
+                                              std::numeric_limits<double>::infinity()};
+        psc_batch* b = anyBatch();
+        const size_t pick = in.ConsumeIntegralInRange<size_t>(0, std::size(kSeconds));
+        const double seconds = pick < std::size(kSeconds) ? kSeconds[pick] : in.ConsumeFloatingPoint<double>();
+        expectStatus(p().setDeadline(b, seconds), "psc_set_deadline");
+    }
+
+    // Expands changed keys under any actions, over any template environment.
+    void expand() {
+        psc_batch* b = anyBatch();
+        const int32_t templateEnv = index(envCount(b));
+        const int32_t count = in.ConsumeIntegralInRange<int>(0, 15) == 0 ? -1 : in.ConsumeIntegralInRange<int32_t>(0, 3);
+        const int32_t actionCount = in.ConsumeIntegralInRange<int>(0, 15) == 0 ? in.ConsumeIntegralInRange<int32_t>(-1, 0)
+                                                                               : in.ConsumeIntegralInRange<int32_t>(1, 6);
+        const size_t parents = static_cast<size_t>(std::max(count, 0));
+        const size_t children = parents * static_cast<size_t>(std::max(actionCount, 0));
+        const size_t words = keyWords();
+        const std::vector<uint64_t> k = someKeys(parents);
+        GuardedBuffer keyBuffer(k.size() * sizeof(uint64_t)), actions(static_cast<size_t>(std::max(actionCount, 0)) * 4),
+            out(children * words * sizeof(uint64_t)), flags(children), hashes(children * sizeof(uint64_t)),
+            estimates(children * sizeof(int32_t));
+        if (!k.empty()) std::memcpy(keyBuffer.data(), k.data(), keyBuffer.size());
+        fillActions(actions.data(), static_cast<size_t>(std::max(actionCount, 0)));
+        const bool nullKeys = in.ConsumeIntegralInRange<int>(0, 15) == 0;
+        const bool withHashes = in.ConsumeBool(), withEstimates = in.ConsumeBool();
+        const int status = p().expand(b, templateEnv, nullKeys ? nullptr : keyBuffer.data(), count,
+                                      reinterpret_cast<int32_t*>(actions.data()), actionCount, out.data(),
+                                      reinterpret_cast<uint8_t*>(flags.data()),
+                                      withHashes ? reinterpret_cast<uint64_t*>(hashes.data()) : nullptr,
+                                      withEstimates ? reinterpret_cast<int32_t*>(estimates.data()) : nullptr);
+        expectStatus(status, "psc_expand");
+        if (status != PSC_OK) return;
+        const auto* child = reinterpret_cast<const uint64_t*>(out.data());
+        for (size_t c = 0; c < children; ++c) {
+            const uint8_t f = static_cast<uint8_t>(flags.data()[c]);
+            if (f & ~0x1Fu) die("psc_expand set an unknown flag");
+            if (f & (PSC_EXPAND_INVALID | PSC_EXPAND_TIMED_OUT)) continue;
+            const uint64_t* parent = k.data() + (c / static_cast<size_t>(actionCount)) * words;
+            if ((f & PSC_EXPAND_UNCHANGED) && !std::equal(parent, parent + words, child + c * words)) {
+                die("psc_expand flagged a child unchanged that differs from its parent");
+            }
+            if (withHashes) {
+                std::vector<uint64_t> copy(child + c * words, child + (c + 1) * words);
+                uint64_t hash = 0;
+                expectStatus(p().canonicalKeys(b, copy.data(), 1, &hash), "psc_canonical_keys");
+                uint64_t expanded = 0;
+                std::memcpy(&expanded, hashes.data() + c * sizeof(uint64_t), sizeof expanded);
+                if (hash != expanded) die("psc_expand's hash of a child is not its key's");
+            }
+        }
+        if (children > 0) keys.assign(child, child + children * words);
+    }
+
+    void estimate() {
+        psc_batch* b = anyBatch();
+        const int32_t templateEnv = index(envCount(b));
+        const int32_t count = in.ConsumeIntegralInRange<int>(0, 15) == 0 ? -1 : in.ConsumeIntegralInRange<int32_t>(0, 3);
+        const std::vector<uint64_t> k = someKeys(static_cast<size_t>(std::max(count, 0)));
+        GuardedBuffer keyBuffer(k.size() * sizeof(uint64_t)), estimates(static_cast<size_t>(std::max(count, 0)) * 4);
+        if (!k.empty()) std::memcpy(keyBuffer.data(), k.data(), keyBuffer.size());
+        const bool nullOut = in.ConsumeIntegralInRange<int>(0, 15) == 0;
+        expectStatus(p().estimateDistance(b, templateEnv, keyBuffer.data(), count,
+                                          nullOut ? nullptr : reinterpret_cast<int32_t*>(estimates.data())),
+                     "psc_estimate_distance");
+    }
+
+    // psc_expand's memory: allocations, copies through them, frees.
+    void memory() {
+        psc_batch* b = anyBatch();
+        switch (in.ConsumeIntegralInRange<int>(0, 2)) {
+            case 0: {
+                if (allocations.size() >= 8) return;
+                const size_t bytes = in.ConsumeIntegralInRange<size_t>(0, 256);
+                void* pointer = reinterpret_cast<void*>(0x1);
+                const bool nullOut = in.ConsumeIntegralInRange<int>(0, 15) == 0;
+                const int status = p().deviceAlloc(b, bytes, nullOut ? nullptr : &pointer);
+                expectStatus(status, "psc_device_alloc");
+                if (status == PSC_OK) {
+                    if (!pointer) die("psc_device_alloc returned PSC_OK without memory");
+                    allocations.push_back({b, pointer, bytes});
+                }
+                break;
+            }
+            case 1: {
+                if (allocations.empty()) return;
+                const Allocation a = allocations[in.ConsumeIntegralInRange<size_t>(0, allocations.size() - 1)];
+                const size_t bytes = in.ConsumeIntegralInRange<size_t>(0, a.bytes);
+                GuardedBuffer host(bytes);
+                const bool toDevice = in.ConsumeBool();
+                const int status = p().copy(a.batch, toDevice ? a.pointer : host.data(), toDevice ? host.data() : a.pointer, bytes);
+                expectStatus(status, "psc_copy");
+                break;
+            }
+            default: {
+                if (allocations.empty()) {
+                    expectStatus(p().deviceFree(b, nullptr), "psc_device_free");
+                    return;
+                }
+                const size_t i = in.ConsumeIntegralInRange<size_t>(0, allocations.size() - 1);
+                expectStatus(p().deviceFree(allocations[i].batch, allocations[i].pointer), "psc_device_free");
+                allocations.erase(allocations.begin() + static_cast<std::ptrdiff_t>(i));
+                break;
+            }
+        }
+    }
+
     void run() {
         using Operation = void (Session::*)();
         static constexpr Operation kOperations[] = {
             &Session::create,    &Session::reset,     &Session::resetEntry, &Session::step,
             &Session::stepMany,  &Session::observe,   &Session::buffers,    &Session::rollout,
             &Session::saveState, &Session::loadState, &Session::dump,       &Session::streams,
+            &Session::startFlags, &Session::encode,   &Session::decode,     &Session::canonical,
+            &Session::deadline,  &Session::expand,    &Session::estimate,   &Session::memory,
         };
         constexpr size_t kCount = std::size(kOperations);
         for (int ops = 0; ops < 64 && in.remaining_bytes() > 0; ++ops) {

@@ -104,6 +104,7 @@ PluginBuild::PluginBuild(const std::string& source, const BuildOptions& options,
     if (compiler_.empty()) compiler_ = std::getenv("CXX") && *std::getenv("CXX") ? std::getenv("CXX") : "c++";
     flags_ = "-std=c++17 " + options.optimization + " -fPIC -pthread -w -fvisibility=hidden";
     if (options.native) flags_ += " -march=native";
+    if (!options.flags.empty()) flags_ += " " + options.flags;
     // As PSC_NVRTC_OPTIONS for NVRTC: to measure a flag, or to build code
     // paths the GPU takes (-DPSC_MOVE_OVER_BOARDS=1) for tests on the CPU.
     if (const char* extra = std::getenv("PSC_CXX_OPTIONS"); extra && *extra) flags_ += std::string(" ") + extra;

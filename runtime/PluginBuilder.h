@@ -18,6 +18,7 @@ namespace psc {
 struct BuildOptions {
     std::string compiler;            // default: $CXX or c++
     std::string optimization = "-O2";
+    std::string flags;               // more compiler flags (the ABI fuzz target's sanitizers)
     bool native = false;             // -march=native (faster, not portable)
     std::string cacheDir;            // default: $PSC_CACHE_DIR, else $XDG_CACHE_HOME/psc, else ~/.cache/psc
     bool verbose = false;            // print the compile command

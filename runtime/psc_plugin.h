@@ -279,7 +279,10 @@ PSC_API int psc_dump_state(const psc_batch* batch, int32_t env, char* buffer, si
 PSC_API int psc_encode_states(const psc_batch* batch, const int32_t* env_ids, int32_t count, void* keys,
                               uint64_t* hashes);
 /* Puts environment env in the state of `key` (host memory); its undo history
- * is cleared.  The environment must show the key's entry. */
+ * is cleared.  The environment must show the key's entry, and the key must be
+ * a state of its level: a key with an object outside the level's cells, or a
+ * header bit no state sets, is refused with PSC_ERROR_BAD_STATE (as by
+ * psc_estimate_distance; psc_expand flags its children PSC_EXPAND_INVALID). */
 PSC_API int psc_decode_state(psc_batch* batch, int32_t env, const void* key);
 
 /* Puts `count` keys (host memory) in search's form, the form of
@@ -297,7 +300,8 @@ enum {
     PSC_EXPAND_WON = 1u << 0,       /* the input won the level (the child stays on it) */
     PSC_EXPAND_UNCHANGED = 1u << 1, /* the child's key equals its parent's */
     PSC_EXPAND_CUT_OFF = 1u << 2,   /* an endless `again` chain was cut off */
-    PSC_EXPAND_INVALID = 1u << 3,   /* not expanded: a bad action, or a key of another entry than the template's */
+    PSC_EXPAND_INVALID = 1u << 3,   /* not expanded: a bad action, a key of another entry than the template's, or
+                                       one that is no state of its level (an object outside the level's cells) */
     PSC_EXPAND_TIMED_OUT = 1u << 4  /* not expanded: psc_set_deadline's deadline had passed (the key is not a child) */
 };
 /* A deadline for psc_expand, `seconds` from now (0: none): once it has
@@ -317,7 +321,8 @@ PSC_API int psc_set_deadline(psc_batch* batch, double seconds);
  * CPU batches; for CUDA batches device memory (psc_device_alloc), with the
  * work queued on the batch's stream (psc_synchronize waits for it): plugins
  * built with psc --search-kernels (psc solve builds them so), others answer
- * PSC_ERROR_BACKEND_UNAVAILABLE. */
+ * PSC_ERROR_BACKEND_UNAVAILABLE; host memory that CUDA does not know (not
+ * allocated or registered with it) is refused there with PSC_ERROR_BAD_ARGUMENT. */
 PSC_API int psc_expand(psc_batch* batch, int32_t template_env, const void* keys, int32_t count, const int32_t* actions,
                        int32_t action_count, void* children, uint8_t* flags, uint64_t* hashes, int32_t* estimates);
 

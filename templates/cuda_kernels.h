@@ -197,8 +197,9 @@ extern "C" __global__ void psc_expand_kernel(psc_game::DeviceBatch b, int templa
         }
         const u8 f = expandKey(e, parent, action, child, deadline);
         flags[k] = f;
-        if (hashes) hashes[k] = f == kExpandTimedOut ? 0 : hashKey(child);
-        if (estimates) estimates[k] = f == kExpandTimedOut ? 0 : winDistance(e);
+        const bool noChild = f == kExpandTimedOut || f == kExpandInvalid;
+        if (hashes) hashes[k] = noChild ? 0 : hashKey(child);
+        if (estimates) estimates[k] = noChild ? 0 : winDistance(e);
     }
 }
 

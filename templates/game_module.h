@@ -53,11 +53,33 @@ int moduleSetSeed(void* env, const uint16_t* units, size_t count) {
     return 1;
 }
 
+// Whether board b holds positions of `cells` only.
+bool within(const Board& b, const Board& cells) { return !andNot(b, cells).any(); }
+
+// Whether a loaded environment's boards, and its undo snapshots', hold
+// positions of its level's cells only: rules and movement look at the cells
+// next to a match, which the guard positions keep within a board's words.
+bool boardsInLevel(const Env& e, const char* snapshots, int count) {
+    Board cells = Board::zero();
+    for (int x = 0; x < e.width; ++x) {
+        for (int y = 0; y < e.height; ++y) cells.set(positionOf(e, x, y));
+    }
+    bool in = within(e.inside, cells) && within(e.rowStart, cells);
+    for (int o = 0; o < kObjects; ++o) in = in && within(e.obj[o], e.inside) && within(e.restartTarget.obj[o], e.inside);
+    for (int m = 0; m < kLayers * 5; ++m) in = in && within(e.mov[m], e.inside);
+    for (int k = 0; k < count; ++k) {
+        Snapshot s;
+        __builtin_memcpy(&s, snapshots + sizeof s * static_cast<size_t>(k), sizeof s);  // loaded bytes, maybe unaligned
+        for (int o = 0; o < kObjects; ++o) in = in && within(s.obj[o], e.inside);
+    }
+    return in;
+}
+
 // Fields a saved environment indexes tables or loops with must be in range
 // (a state whose hash matches can still be made by hand).
-int modulePlausible(const void* env) {
+int modulePlausible(const void* env, const void* snapshots, int count) {
     const Env& e = envOf(env);
-    return e.width >= 0 && e.width <= kMaxWidth && e.height >= 0 && e.height <= kMaxHeight &&
+    const bool sizes = e.width >= 0 && e.width <= kMaxWidth && e.height >= 0 && e.height <= kMaxHeight &&
            e.width * (e.height + 1) <= kWords * 64 && e.entry >= 0 && e.levelEntry >= 0 && e.autoReset <= 2 &&
            e.againMode <= kAgainOneTurn && e.maxEpisodeSteps >= 0
 #if PSC_HAS_RULE_MESSAGES
@@ -68,6 +90,7 @@ int modulePlausible(const void* env) {
            && e.seedLength <= kSeedUnits
 #endif
         ;
+    return sizes && boardsInLevel(e, static_cast<const char*>(snapshots), count);
 }
 
 void moduleView(const void* env, psc_host::EnvView* out) {
@@ -146,7 +169,7 @@ void moduleClearUndo(psc_host::UndoRing* undo) { clearUndo(undoOf(undo)); }
 const u64* words(const uint64_t* key) { return reinterpret_cast<const u64*>(key); }
 u64* words(uint64_t* key) { return reinterpret_cast<u64*>(key); }
 void moduleEncodeKey(const void* env, uint64_t* key) { encodeKey(envOf(env), words(key)); }
-void moduleDecodeKey(void* env, const uint64_t* key) { decodeKey(envOf(env), words(key)); }
+int moduleDecodeKey(void* env, const uint64_t* key) { return decodeKey(envOf(env), words(key)); }
 int moduleKeyEntry(const uint64_t* key) { return keyEntry(words(key)); }
 uint64_t moduleHashKey(const uint64_t* key) { return hashKey(words(key)); }
 void moduleFoldKey(uint64_t* key) { foldKey(words(key)); }

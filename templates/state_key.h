@@ -78,9 +78,19 @@ PSC_DEVICE inline void encodeKey(const Env& e, u64* key) {
 
 // Overwrites what the key holds; `e` must already be a copy of a template
 // environment on the key's entry (its size, seed and restart target).
-PSC_DEVICE inline void decodeKey(Env& e, const u64* key) {
+// Returns whether the key can be a state of that level: no header bits but
+// those keyHeader writes, and no object or movement outside the template's
+// cells (on a message entry, those of the level shown before it, if any).
+// Rules and movement look at the cells next to a match, which the guard
+// positions keep within a board's words; a position outside the level (a
+// key made by hand) would reach past them, and an expansion plays a turn on
+// every screen, title and messages included.  (Checked as
+// the words are copied: sokoban's GPU expansion 1.7 % slower, where a check
+// of its own, reading the key twice, cost 4 %: docs/results/h200-2026-12-03c/.)
+PSC_DEVICE inline bool decodeKey(Env& e, const u64* key) {
     int at = 0;
     const u64 header = key[at++];
+    u64 outside = 0;
     e.entry = static_cast<short>(header & 0xFFFFu);
     e.titleScreen = static_cast<u8>((header >> 16) & 1u);
     e.textMode = static_cast<u8>((header >> 17) & 1u);
@@ -91,16 +101,28 @@ PSC_DEVICE inline void decodeKey(Env& e, const u64* key) {
     e.wins = 0;
     e.dormant = 0;
     PSC_UNROLL_STATE for (int k = 0; k < kKeyObjectCount; ++k) {
-        PSC_UNROLL for (int w = 0; w < kWords; ++w) e.obj[kKeyObjects[k]].w[w] = key[at++];
+        PSC_UNROLL for (int w = 0; w < kWords; ++w) {
+            const u64 v = key[at++];
+            e.obj[kKeyObjects[k]].w[w] = v;
+            outside |= v & ~e.inside.w[w];
+        }
     }
     if (kHasCheckpoint) {
         for (int k = 0; k < kKeyObjectCount; ++k) {
-            for (int w = 0; w < kWords; ++w) e.restartTarget.obj[kKeyObjects[k]].w[w] = key[at++];
+            for (int w = 0; w < kWords; ++w) {
+                const u64 v = key[at++];
+                e.restartTarget.obj[kKeyObjects[k]].w[w] = v;
+                outside |= v & ~e.inside.w[w];
+            }
         }
     }
     if (kMovementsCanLinger) {
         for (int m = 0; m < kLayers * 5; ++m) {
-            for (int w = 0; w < kWords; ++w) e.mov[m].w[w] = key[at++];
+            for (int w = 0; w < kWords; ++w) {
+                const u64 v = key[at++];
+                e.mov[m].w[w] = v;
+                outside |= v & ~e.inside.w[w];
+            }
         }
     } else {
         for (int m = 0; m < kLayers * 5; ++m) e.mov[m] = Board::zero();
@@ -117,6 +139,7 @@ PSC_DEVICE inline void decodeKey(Env& e, const u64* key) {
         }
     }
 #endif
+    return (header >> 20) == 0 && outside == 0;
 }
 
 // Search's form of a key (psc_expand's children, psc_canonical_keys): the
@@ -166,10 +189,11 @@ constexpr bool kExpandTooLarge = !PSC_STATE_IN_REGISTERS && sizeof(Env) > 128 * 
 // over the template `e` (which this overwrites); the level stays as it is
 // when the input wins it.  With a deadline (on deadlineClock; 0: none), a
 // child not started by then, or whose again chain it cut short, is no child:
-// kExpandTimedOut, `child` unwritten or not one.
+// kExpandTimedOut, `child` unwritten or not one.  A parent that is no state
+// of the level (decodeKey) is kExpandInvalid, `child` unwritten.
 PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child, unsigned long long deadline) {
     if (deadlinePassed(deadline)) return kExpandTimedOut;
-    decodeKey(e, parent);
+    if (!decodeKey(e, parent)) return kExpandInvalid;
     e.stopOnWin = 1;
     e.needsReset = 0;
     e.againMode = kAgainSettle;  // a child is where the input's whole again chain leads

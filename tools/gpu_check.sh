@@ -7,7 +7,7 @@
 #   bench     psc bench --backend cuda, batch sweep, for each benchmark game
 #   replay    every carried corpus trace replayed on each of REPLAY_BACKENDS (default cuda; "cpu cuda" for
 #             both), states dumped (compare backends: tools/compare_dumps.py); reports for tools/fidelity_report.py
-#   sanitize  compute-sanitizer memcheck on a sample of replays and a rollout
+#   sanitize  compute-sanitizer memcheck on a sample of replays, a rollout and tests/robustness/hostile_abi.py --cuda
 #   fromptx   kernels loaded from PTX (PSC_CUDA_FROM_PTX=1, the other-GPU path,
 #             compile units linked by the driver): a rollout and a few replays
 #   python    the Python package on the GPU: zero-copy views, CUDA tests, PPO
@@ -143,6 +143,12 @@ for stage in "$@"; do
         compute-sanitizer --tool memcheck --error-exitcode 9 "$psc" bench bench/games/sokoban.txt --backend cuda \
             --batch 1,1000 --steps 50 --repeats 1 --warmup 0 > "$logs/bench_sokoban.txt" 2>&1
         echo "bench sokoban: exit $? $(grep -o 'ERROR SUMMARY: [0-9]* errors\?' "$logs/bench_sokoban.txt")" >> "$summary"
+        # Hostile calls on a CUDA batch too: keys no state has, expanded on the GPU.  Its
+        # calls provoke the driver's errors on purpose (host memory where device memory
+        # belongs), which memcheck would count: only memory errors are counted here.
+        compute-sanitizer --tool memcheck --report-api-errors no --error-exitcode 9 $python tests/robustness/hostile_abi.py \
+            "$psc" games/sokoban.txt --cuda > "$logs/hostile_abi_cuda.txt" 2>&1
+        echo "hostile_abi --cuda: exit $? $(tail -1 "$logs/hostile_abi_cuda.txt") $(grep -o 'ERROR SUMMARY: [0-9]* errors\?' "$logs/hostile_abi_cuda.txt" | sort | uniq -c | tr '\n' ' ')" >> "$summary"
         cat "$summary"
         tar -czf "$out/sanitize.tar.gz" -C "$logs" .
         ;;

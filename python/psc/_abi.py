@@ -1,4 +1,4 @@
-"""ctypes mirror of runtime/psc_plugin.h (ABI version 5).
+"""ctypes mirror of runtime/psc_plugin.h (ABI version 6).
 
 The structs must match the header field for field; ctypes applies the same
 C alignment rules, so the layouts agree on every platform psc builds for.
@@ -25,6 +25,13 @@ ACTION_COUNT = 8
 
 FLAG_NOACTION = 1 << 0
 FLAG_USES_RANDOM = 1 << 6
+
+# psc_expand's per-child flags.
+EXPAND_WON = 1 << 0
+EXPAND_UNCHANGED = 1 << 1
+EXPAND_CUT_OFF = 1 << 2
+EXPAND_INVALID = 1 << 3
+EXPAND_TIMED_OUT = 1 << 4
 
 STATUS_NAMES = {
     0: "PSC_OK",

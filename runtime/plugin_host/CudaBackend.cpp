@@ -29,6 +29,7 @@ typedef unsigned long long CUdeviceptr;
 typedef void* CUlinkState;
 constexpr int kJitInputPtx = 1;  // CU_JIT_INPUT_PTX
 constexpr int kJitMaxRegisters = 0;  // CU_JIT_MAX_REGISTERS
+constexpr int kPointerMemoryType = 2;  // CU_POINTER_ATTRIBUTE_MEMORY_TYPE
 
 struct Driver {
     CUresult (*cuInit)(unsigned);
@@ -54,6 +55,7 @@ struct Driver {
     CUresult (*cuMemcpyDtoH)(void*, CUdeviceptr, size_t);
     CUresult (*cuMemsetD8)(CUdeviceptr, unsigned char, size_t);
     CUresult (*cuMemcpy)(CUdeviceptr, CUdeviceptr, size_t);
+    CUresult (*cuPointerGetAttribute)(void*, int, CUdeviceptr);
     CUresult (*cuLaunchKernel)(CUfunction, unsigned, unsigned, unsigned, unsigned, unsigned, unsigned, unsigned,
                                CUstream, void**, void**);
     CUresult (*cuStreamSynchronize)(CUstream);
@@ -99,6 +101,7 @@ Driver& driver() {
         load(d.cuMemcpyDtoH, "cuMemcpyDtoH_v2");
         load(d.cuMemsetD8, "cuMemsetD8_v2");
         load(d.cuMemcpy, "cuMemcpy");
+        load(d.cuPointerGetAttribute, "cuPointerGetAttribute");
         load(d.cuLaunchKernel, "cuLaunchKernel");
         load(d.cuStreamSynchronize, "cuStreamSynchronize");
         load(d.cuGetErrorString, "cuGetErrorString");
@@ -642,6 +645,16 @@ int cudaWriteState(psc_batch* b, int env, const void* in, const void* undo, int 
     return check(d.cuMemcpyHtoD(address(cb->dev.undoHead + env), &head, sizeof(int)), "writing undo");
 }
 
+// Whether the driver knows `p` (device memory, or host memory registered
+// with CUDA; null passes): a kernel handed other host memory fails with a
+// launch error, which ends the batch's context.
+int checkDeviceMemory(const void* p, const char* name) {
+    unsigned type = 0;
+    if (!p || driver().cuPointerGetAttribute(&type, kPointerMemoryType, address(p)) == 0) return PSC_OK;
+    return fail(PSC_ERROR_BAD_ARGUMENT, std::string(name) + " is not memory the GPU can read: a CUDA batch expands "
+                                        "from and into device memory (psc_device_alloc)");
+}
+
 int cudaExpand(psc_batch* b, int32_t templateEnv, const void* keys, int32_t count, const int32_t* actions, int32_t actionCount,
                void* children, uint8_t* flags, uint64_t* hashes, int32_t* estimates) {
     const DeviceCode& code = *game().device;
@@ -658,6 +671,11 @@ int cudaExpand(psc_batch* b, int32_t templateEnv, const void* keys, int32_t coun
     int n = static_cast<int>(pairs);
     CudaBatch* cb = of(b);
     ContextScope scope(cb->context);
+    const std::pair<const void*, const char*> pointers[] = {{keys, "keys"},     {actions, "actions"},     {children, "children"},
+                                                            {flags, "flags"},   {hashes, "hashes"},       {estimates, "estimates"}};
+    for (const auto& [pointer, name] : pointers) {
+        if (int s = checkDeviceMemory(pointer, name)) return s;
+    }
     unsigned long long deadline = 0;
     if (b->expandDeadline) {
         if (int s = cb->measureGpuClock()) return s;

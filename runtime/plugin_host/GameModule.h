@@ -18,7 +18,7 @@ namespace psc_host {
 
 // Raised whenever the module's layout changes; the host refuses a module of
 // another version (a plugin built from mismatched parts).
-constexpr uint32_t kGameModuleVersion = 5;
+constexpr uint32_t kGameModuleVersion = 6;
 
 // A ring of undo snapshots, laid out as the engine's UndoStack (whose turn
 // scratch only the GPU's kernels use: null here).
@@ -99,7 +99,9 @@ struct GameModule {
     void (*initEnv)(void* env, int levelEntry, int autoReset, int againMode, int maxEpisodeSteps);
     void (*setLevelEntry)(void* env, int entry);
     int (*setSeed)(void* env, const uint16_t* units, size_t count);  // 0: longer than seedUnits
-    int (*plausible)(const void* env);  // the fields a loaded state indexes with are in range
+    // The fields a loaded state indexes with are in range, and its boards and
+    // its `count` undo snapshots hold positions of its level's cells only.
+    int (*plausible)(const void* env, const void* snapshots, int count);
     void (*view)(const void* env, EnvView* out);
     // The object ids in cell (x, y), in id order; returns how many.
     int (*cellObjects)(const void* env, int x, int y, int* ids);
@@ -121,7 +123,7 @@ struct GameModule {
     void (*clearUndo)(UndoRing* undo);
 
     void (*encodeKey)(const void* env, uint64_t* key);
-    void (*decodeKey)(void* env, const uint64_t* key);
+    int (*decodeKey)(void* env, const uint64_t* key);  // 0: the key is no state of env's level
     int (*keyEntry)(const uint64_t* key);
     uint64_t (*hashKey)(const uint64_t* key);
     void (*foldKey)(uint64_t* key);  // into search's form (psc_canonical_keys)

@@ -493,7 +493,9 @@ PSC_API int psc_load_state(psc_batch* batch, int32_t env, const void* buffer, si
     }
     EnvBuffer e(g.envBytes);
     std::memcpy(e.data(), body, g.envBytes);
-    if (!g.plausible(e.data())) return fail(PSC_ERROR_BAD_STATE, "the saved state holds values out of range");
+    if (!g.plausible(e.data(), body + g.envBytes, h.undoCount)) {
+        return fail(PSC_ERROR_BAD_STATE, "the saved state holds values out of range, or objects outside its level");
+    }
     if (batch->cuda) return cudaWriteState(batch, env, e.data(), body + g.envBytes, h.undoCount);
     std::memcpy(batch->env(env), e.data(), g.envBytes);
     UndoRing& u = batch->undo[static_cast<size_t>(env)];
@@ -558,7 +560,7 @@ PSC_API int psc_decode_state(psc_batch* batch, int32_t env, const void* key) {
         return fail(PSC_ERROR_BAD_STATE, "the key shows entry " + std::to_string(g.keyEntry(k)) + ", the environment entry " +
                                              std::to_string(v.entry));
     }
-    g.decodeKey(e.data(), k);
+    if (!g.decodeKey(e.data(), k)) return fail(PSC_ERROR_BAD_STATE, "the key is no state of the environment's level");
     if (batch->cuda) return cudaWriteState(batch, env, e.data(), nullptr, 0);
     std::memcpy(batch->env(env), e.data(), g.envBytes);
     g.clearUndo(&batch->undo[static_cast<size_t>(env)]);
@@ -597,9 +599,9 @@ PSC_API int psc_expand(psc_batch* batch, int32_t template_env, const void* keys,
             std::memcpy(e.data(), base, g.envBytes);
             flags[at] = g.expandKey(e.data(), parents + static_cast<size_t>(at / action_count) * words, actions[at % action_count],
                                     child, deadline);
-            const bool timedOut = flags[at] == PSC_EXPAND_TIMED_OUT;
-            if (hashes) hashes[at] = timedOut ? 0 : g.hashKey(child);
-            if (estimates) estimates[at] = timedOut ? 0 : g.winDistance(e.data());
+            const bool noChild = flags[at] == PSC_EXPAND_TIMED_OUT || flags[at] == PSC_EXPAND_INVALID;
+            if (hashes) hashes[at] = noChild ? 0 : g.hashKey(child);
+            if (estimates) estimates[at] = noChild ? 0 : g.winDistance(e.data());
         }
     });
     return PSC_OK;
@@ -629,16 +631,22 @@ PSC_API int psc_estimate_distance(const psc_batch* batch, int32_t template_env, 
             return fail(PSC_ERROR_BAD_STATE, "key " + std::to_string(i) + " is not of the template environment's entry");
         }
     }
+    std::vector<uint8_t> unfit(static_cast<size_t>(count));
     const auto estimate = [&](int begin, int end) {
         EnvBuffer e(g.envBytes);
         for (int i = begin; i < end; ++i) {
             std::memcpy(e.data(), base.data(), g.envBytes);
-            g.decodeKey(e.data(), k + static_cast<size_t>(i) * words);
-            estimates[i] = g.winDistance(e.data());
+            unfit[static_cast<size_t>(i)] = !g.decodeKey(e.data(), k + static_cast<size_t>(i) * words);
+            estimates[i] = unfit[static_cast<size_t>(i)] ? 0 : g.winDistance(e.data());
         }
     };
     if (batch->pool) batch->pool->run(count, estimate);
     else estimate(0, count);  // a CUDA batch: no worker threads
+    const auto bad = std::find(unfit.begin(), unfit.end(), 1);
+    if (bad != unfit.end()) {
+        return fail(PSC_ERROR_BAD_STATE,
+                    "key " + std::to_string(bad - unfit.begin()) + " is no state of the template environment's level");
+    }
     return PSC_OK;
 }
 

@@ -7,8 +7,10 @@ Usage: hostile_abi.py PSC GAME [--cuda]
 
 The CPU-only plugin of GAME is checked on the CPU backend, and its CUDA
 entry points must answer PSC_ERROR_BACKEND_UNAVAILABLE.  With --cuda, the
-plugin with both backends is built too: on a machine without a GPU, creating
-a CUDA batch must fail with BACKEND_UNAVAILABLE or DEVICE and a message.
+plugin with both backends (and search's kernels) is built too: on a machine
+without a GPU, creating a CUDA batch must fail with BACKEND_UNAVAILABLE or
+DEVICE and a message; with one, its batch answers hostile keys as the CPU's
+(tools/gpu_check.sh sanitize runs this under compute-sanitizer).
 
 Calls that could bring the process down run in a child process.  KNOWN_BUGS
 lists the cases that fail today (the plugin's code is in templates/, see
@@ -291,6 +293,8 @@ def batch_calls(p, path):
     expect(p, "canonical_keys(NULL keys)", lib.psc_canonical_keys(b, None, 1, None), NULL)
     expect(p, "canonical_keys of -1 keys", lib.psc_canonical_keys(b, key, -1, None), BAD_ARG)
     expect(p, "canonical_keys of no keys", lib.psc_canonical_keys(b, key, 0, None), OK)
+    keys_outside_the_level(p)
+    state_outside_its_level(p)
 
     needed = c_size_t()
     expect(p, "dump_state(NULL batch)", lib.psc_dump_state(None, 0, None, 0, byref(needed)), NULL)
@@ -300,6 +304,91 @@ def batch_calls(p, path):
     expect(p, f"dump_state into {needed.value - 1} bytes", lib.psc_dump_state(b, 0, text, needed.value - 1, None), SMALL)
     expect(p, "dump_state(NULL needed)", lib.psc_dump_state(b, 0, text, needed.value, None), OK)
     record(len(text.value) + 1 == needed.value, "dump_state's size includes the NUL")
+    lib.psc_batch_destroy(b)
+
+
+def expand(p, b, key, actions, cuda):
+    """psc_expand of one key: (status, flags, hashes, estimates); on a CUDA
+    batch through device memory."""
+    lib = p.lib
+    n = len(actions)
+    children = (c_uint64 * (n * len(key)))()
+    flags, hashes, estimates = (c_uint8 * n)(), (c_uint64 * n)(*[5] * n), (c_int32 * n)(*[5] * n)
+    host = [key, children, flags, hashes, estimates]
+    if not cuda:
+        return lib.psc_expand(b, 0, key, 1, actions, n, children, flags, hashes, estimates), flags, hashes, estimates
+    device = []
+    for buffer in [actions] + host:
+        d = c_void_p()
+        expect(p, "device_alloc", lib.psc_device_alloc(b, ctypes.sizeof(buffer), byref(d)), OK)
+        expect(p, "copy to the device", lib.psc_copy(b, d, buffer, ctypes.sizeof(buffer)), OK)
+        device.append(d)
+    # Host memory where device memory belongs is refused, not launched on.
+    expect(p, "expand on a CUDA batch with host actions", lib.psc_expand(b, 0, device[1], 1, actions, n, *device[2:]), BAD_ARG)
+    expect(p, "expand on a CUDA batch with host keys", lib.psc_expand(b, 0, key, 1, device[0], n, *device[2:]), BAD_ARG)
+    status = lib.psc_expand(b, 0, device[1], 1, device[0], n, *device[2:])
+    expect(p, "synchronize", lib.psc_synchronize(b), OK)
+    for buffer, d in zip([actions] + host, device):
+        expect(p, "copy from the device", lib.psc_copy(b, buffer, d, ctypes.sizeof(buffer)), OK)
+        lib.psc_device_free(b, d)
+    return status, flags, hashes, estimates
+
+
+def keys_outside_the_level(p, backend=_abi.BACKEND_CPU):
+    """A key with an object or a header bit no state has is refused: rules
+    look at the cells next to a match, and an object on a guard position
+    (past the level's last row) reached past the boards' words (fuzzing)."""
+    lib = p.lib
+    cuda = backend == _abi.BACKEND_CUDA
+    on = " (CUDA)" if cuda else ""
+    b = p.create(backend=backend)  # on level 0
+    words = p.info.state_key_bytes // 8
+    env = (c_int32 * 1)(0)
+    valid = (c_uint64 * words)()
+    expect(p, "encode_states" + on, lib.psc_encode_states(b, env, 1, valid, None), OK)
+    height = p.info.level_heights[0]
+    guard = (c_uint64 * words)(*valid)
+    guard[1] |= 1 << height  # the first key object's board, column 0's guard position
+    header = (c_uint64 * words)(*valid)
+    header[0] |= 1 << 20
+    actions = (c_int32 * 2)(0, 3)
+    estimates = (c_int32 * 1)()
+    for name, key in (("an object on a guard position", guard), ("an unknown header bit", header)):
+        expect(p, f"decode_state of a key with {name}{on}", lib.psc_decode_state(b, 0, key), BAD_STATE)
+        expect(p, f"estimate_distance of a key with {name}{on}", lib.psc_estimate_distance(b, 0, key, 1, estimates),
+               BAD_STATE)
+        status, flags, hashes, child_estimates = expand(p, b, key, actions, cuda)
+        expect(p, f"expand of a key with {name}{on}", status, OK)
+        record(list(flags) == [_abi.EXPAND_INVALID] * 2 and list(hashes) == [0, 0] and list(child_estimates) == [0, 0],
+               f"expand flags the children of a key with {name} invalid, hash and estimate 0{on}", f" ({list(flags)})")
+    expect(p, "decode_state of an encoded key" + on, lib.psc_decode_state(b, 0, valid), OK)
+    status, flags, _, _ = expand(p, b, valid, actions, cuda)
+    expect(p, "expand of an encoded key" + on, status, OK)
+    record(not any(f & _abi.EXPAND_INVALID for f in flags), "expand takes an encoded key" + on, f" ({list(flags)})")
+    lib.psc_batch_destroy(b)
+
+
+def fnv1a(data):
+    h = 0xCBF29CE484222325
+    for byte in data:
+        h = ((h ^ byte) * 0x100000001B3) & (2**64 - 1)
+    return h
+
+
+def state_outside_its_level(p):
+    """A saved state whose checksum matches and whose first object has a cell
+    on a guard position is refused (a state can be made by hand)."""
+    lib = p.lib
+    b = p.create(undo_depth=0)
+    size = lib.psc_state_size(b)
+    state = (c_uint8 * size)()
+    expect(p, "save_state without undo", lib.psc_save_state(b, 0, state, size), OK)
+    header_bytes = 64  # magic, sha1, undo capacity and count, the body's checksum
+    first_word = int.from_bytes(bytes(state[header_bytes:header_bytes + 8]), "little")
+    first_word |= 1 << p.info.level_heights[0]
+    state[header_bytes:header_bytes + 8] = list(first_word.to_bytes(8, "little"))
+    state[56:64] = list(fnv1a(bytes(state[header_bytes:])).to_bytes(8, "little"))
+    expect(p, "load_state of a state with an object on a guard position", lib.psc_load_state(b, 0, state, size), BAD_STATE)
     lib.psc_batch_destroy(b)
 
 
@@ -352,8 +441,8 @@ def two_threads(p):
     record(together == alone, "two threads: the same states as one after the other")
 
 
-def build(target, out):
-    r = subprocess.run([PSC, GAME, "-o", out, "--target", target], capture_output=True, text=True)
+def build(target, out, *options):
+    r = subprocess.run([PSC, GAME, "-o", out, "--target", target, *options], capture_output=True, text=True)
     if r.returncode != 0:
         print(r.stderr)
         raise SystemExit(f"cannot build {GAME} for {target}")
@@ -369,7 +458,7 @@ def main():
         batch_calls(p, cpu)
         two_threads(p)
         if "--cuda" in sys.argv:
-            both = Plugin(build("all", os.path.join(tmp, "all.so")))
+            both = Plugin(build("all", os.path.join(tmp, "all.so"), "--search-kernels"))
             record(bool(both.info.backends & (1 << _abi.BACKEND_CUDA)), "the --target all plugin has the CUDA backend")
             b = c_void_p()
             status = both.lib.psc_batch_create(byref(both.options(backend=_abi.BACKEND_CUDA)), byref(b))
@@ -377,6 +466,7 @@ def main():
                 batch_calls_cuda = both.lib.psc_step(b, (c_int32 * 2)(0, 9), None)
                 expect(both, "CUDA batch: step with action 9", batch_calls_cuda, BAD_ACTION)
                 both.lib.psc_batch_destroy(b)
+                keys_outside_the_level(both, _abi.BACKEND_CUDA)
             else:
                 expect(both, "CUDA batch without a GPU", status, (UNAVAILABLE, DEVICE))
             batch_creation(both, os.path.join(tmp, "all.so"))
