@@ -128,6 +128,10 @@ public:
         mprotect(base_ + mapped_ - page, page, PROT_NONE);
         std::memset(data(), 0xA5, size_);
     }
+    // A guarded copy of `bytes`.
+    GuardedBuffer(const void* bytes, size_t size) : GuardedBuffer(size) {
+        if (size) std::memcpy(data(), bytes, size);
+    }
     ~GuardedBuffer() { munmap(base_, mapped_); }
     GuardedBuffer(const GuardedBuffer&) = delete;
     GuardedBuffer& operator=(const GuardedBuffer&) = delete;
@@ -382,8 +386,7 @@ struct Session {
             const size_t at = in.ConsumeIntegralInRange<size_t>(0, std::min(bytes.size(), kHeaderBytes) - 1);
             bytes[at] = static_cast<char>(in.ConsumeIntegral<uint8_t>());
         }
-        GuardedBuffer buffer(bytes.size());
-        if (!bytes.empty()) std::memcpy(buffer.data(), bytes.data(), bytes.size());
+        GuardedBuffer buffer(bytes.data(), bytes.size());
         const bool nullBuffer = in.ConsumeIntegralInRange<int>(0, 15) == 0;
         expectStatus(p().loadState(b, env, nullBuffer ? nullptr : buffer.data(), buffer.size()), "psc_load_state");
     }
@@ -443,12 +446,15 @@ struct Session {
         expectStatus(status, "psc_encode_states");
         if (status != PSC_OK || length == 0) return;
         keys.assign(reinterpret_cast<uint64_t*>(out.data()), reinterpret_cast<uint64_t*>(out.data()) + length * keyWords());
-        int32_t env = 0;
-        std::memcpy(&env, ids.data(), 4);
-        expectStatus(p().decodeState(b, env, keys.data()), "psc_decode_state");
         std::vector<uint64_t> again(keyWords());
-        expectStatus(p().encodeStates(b, &env, 1, again.data(), nullptr), "psc_encode_states");
-        if (!std::equal(again.begin(), again.end(), keys.begin())) die("an encoded key does not decode back to itself");
+        for (size_t i = 0; i < length; ++i) {
+            int32_t env = 0;
+            std::memcpy(&env, ids.data() + i * 4, 4);
+            const uint64_t* key = keys.data() + i * keyWords();
+            expectStatus(p().decodeState(b, env, key), "psc_decode_state");
+            expectStatus(p().encodeStates(b, &env, 1, again.data(), nullptr), "psc_encode_states");
+            if (!std::equal(again.begin(), again.end(), key)) die("an encoded key does not decode back to itself");
+        }
     }
 
     // `count` keys: the last ones, or bytes of the input, with words and bits changed.
@@ -469,13 +475,12 @@ struct Session {
         return k;
     }
 
-    // Decodes a changed key into an environment, then steps it.
+    // Decodes a changed key into an environment (which later operations step).
     void decode() {
         psc_batch* b = anyBatch();
         const int32_t env = index(envCount(b));
         const std::vector<uint64_t> k = someKeys(1);
-        GuardedBuffer key(k.size() * sizeof(uint64_t));
-        if (!k.empty()) std::memcpy(key.data(), k.data(), key.size());
+        GuardedBuffer key(k.data(), k.size() * sizeof(uint64_t));
         const bool nullKey = in.ConsumeIntegralInRange<int>(0, 15) == 0;
         expectStatus(p().decodeState(b, env, nullKey ? nullptr : key.data()), "psc_decode_state");
     }
@@ -485,8 +490,7 @@ struct Session {
         psc_batch* b = anyBatch();
         const size_t count = in.ConsumeIntegralInRange<size_t>(0, 3);
         const std::vector<uint64_t> k = someKeys(count);
-        GuardedBuffer buffer(k.size() * sizeof(uint64_t)), hashes(count * sizeof(uint64_t));
-        if (!k.empty()) std::memcpy(buffer.data(), k.data(), buffer.size());
+        GuardedBuffer buffer(k.data(), k.size() * sizeof(uint64_t)), hashes(count * sizeof(uint64_t));
         const bool withHashes = in.ConsumeBool();
         auto* h = withHashes ? reinterpret_cast<uint64_t*>(hashes.data()) : nullptr;
         const int status = p().canonicalKeys(b, buffer.data(), static_cast<int32_t>(count), h);
@@ -522,10 +526,9 @@ struct Session {
         const size_t children = parents * static_cast<size_t>(std::max(actionCount, 0));
         const size_t words = keyWords();
         const std::vector<uint64_t> k = someKeys(parents);
-        GuardedBuffer keyBuffer(k.size() * sizeof(uint64_t)), actions(static_cast<size_t>(std::max(actionCount, 0)) * 4),
+        GuardedBuffer keyBuffer(k.data(), k.size() * sizeof(uint64_t)), actions(static_cast<size_t>(std::max(actionCount, 0)) * 4),
             out(children * words * sizeof(uint64_t)), flags(children), hashes(children * sizeof(uint64_t)),
             estimates(children * sizeof(int32_t));
-        if (!k.empty()) std::memcpy(keyBuffer.data(), k.data(), keyBuffer.size());
         fillActions(actions.data(), static_cast<size_t>(std::max(actionCount, 0)));
         const bool nullKeys = in.ConsumeIntegralInRange<int>(0, 15) == 0;
         const bool withHashes = in.ConsumeBool(), withEstimates = in.ConsumeBool();
@@ -562,8 +565,7 @@ struct Session {
         const int32_t templateEnv = index(envCount(b));
         const int32_t count = in.ConsumeIntegralInRange<int>(0, 15) == 0 ? -1 : in.ConsumeIntegralInRange<int32_t>(0, 3);
         const std::vector<uint64_t> k = someKeys(static_cast<size_t>(std::max(count, 0)));
-        GuardedBuffer keyBuffer(k.size() * sizeof(uint64_t)), estimates(static_cast<size_t>(std::max(count, 0)) * 4);
-        if (!k.empty()) std::memcpy(keyBuffer.data(), k.data(), keyBuffer.size());
+        GuardedBuffer keyBuffer(k.data(), k.size() * sizeof(uint64_t)), estimates(static_cast<size_t>(std::max(count, 0)) * 4);
         const bool nullOut = in.ConsumeIntegralInRange<int>(0, 15) == 0;
         expectStatus(p().estimateDistance(b, templateEnv, keyBuffer.data(), count,
                                           nullOut ? nullptr : reinterpret_cast<int32_t*>(estimates.data())),

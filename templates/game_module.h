@@ -79,7 +79,7 @@ bool boardsInLevel(const Env& e, const char* snapshots, int count) {
 // (a state whose hash matches can still be made by hand).
 int modulePlausible(const void* env, const void* snapshots, int count) {
     const Env& e = envOf(env);
-    const bool sizes = e.width >= 0 && e.width <= kMaxWidth && e.height >= 0 && e.height <= kMaxHeight &&
+    const bool inRange = e.width >= 0 && e.width <= kMaxWidth && e.height >= 0 && e.height <= kMaxHeight &&
            e.width * (e.height + 1) <= kWords * 64 && e.entry >= 0 && e.levelEntry >= 0 && e.autoReset <= 2 &&
            e.againMode <= kAgainOneTurn && e.maxEpisodeSteps >= 0
 #if PSC_HAS_RULE_MESSAGES
@@ -90,7 +90,7 @@ int modulePlausible(const void* env, const void* snapshots, int count) {
            && e.seedLength <= kSeedUnits
 #endif
         ;
-    return sizes && boardsInLevel(e, static_cast<const char*>(snapshots), count);
+    return inRange && boardsInLevel(e, static_cast<const char*>(snapshots), count);
 }
 
 void moduleView(const void* env, psc_host::EnvView* out) {

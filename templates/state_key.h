@@ -39,6 +39,9 @@ constexpr int kKeyRngWords = 0;
 #endif
 constexpr int kKeyWords = 1 + kKeyBoardWords + kKeyCheckpointWords + kKeyMovementWords + kKeyRngWords;
 
+// The header's bits: the entry (16) and the four screen flags below.
+constexpr int kKeyHeaderBits = 20;
+
 PSC_DEVICE PSC_INLINE u64 keyHeader(const Env& e) {
     return static_cast<u64>(static_cast<u16>(e.entry)) | static_cast<u64>(e.titleScreen) << 16 |
            static_cast<u64>(e.textMode) << 17 | static_cast<u64>(e.againing) << 18 | static_cast<u64>(e.unavailable) << 19;
@@ -139,7 +142,7 @@ PSC_DEVICE inline bool decodeKey(Env& e, const u64* key) {
         }
     }
 #endif
-    return (header >> 20) == 0 && outside == 0;
+    return (header >> kKeyHeaderBits) == 0 && outside == 0;
 }
 
 // Search's form of a key (psc_expand's children, psc_canonical_keys): the
