@@ -392,15 +392,17 @@ def state_outside_its_level(p):
     lib.psc_batch_destroy(b)
 
 
-def two_threads(p):
+def two_threads(p, backend=_abi.BACKEND_CPU):
     """Two threads, one batch each, stepping at once: each sees its own
-    results and its own error messages (psc_last_error is per thread)."""
+    results and its own error messages (psc_last_error is per thread).
+    Returns the states one after the other, for comparing backends."""
     lib = p.lib
+    on = " (CUDA)" if backend == _abi.BACKEND_CUDA else ""
     steps = 300
     rng_actions = [[(i * 7 + k * 3) % 5 for i in range(steps)] for k in range(2)]
 
     def run(k, out):
-        b = p.create(num_envs=4, threads=2)
+        b = p.create(num_envs=4, threads=2, backend=backend)
         acts = (c_int32 * 4)()
         trace = []
         for i, a in enumerate(rng_actions[k]):
@@ -436,9 +438,10 @@ def two_threads(p):
     alone = [None, None]
     for k in range(2):
         run(k, alone)
-    record(all(isinstance(t, list) for t in together), "two threads: no errors but their own" +
+    record(all(isinstance(t, list) for t in together), "two threads: no errors but their own" + on +
            "".join(f" ({t})" for t in together if not isinstance(t, list)))
-    record(together == alone, "two threads: the same states as one after the other")
+    record(together == alone, "two threads: the same states as one after the other" + on)
+    return alone
 
 
 def build(target, out, *options):
@@ -456,7 +459,7 @@ def main():
         record(p.lib.psc_abi_version() == _abi.ABI_VERSION, "abi_version")
         batch_creation(p, cpu)
         batch_calls(p, cpu)
-        two_threads(p)
+        on_cpu = two_threads(p)
         if "--cuda" in sys.argv:
             both = Plugin(build("all", os.path.join(tmp, "all.so"), "--search-kernels"))
             record(bool(both.info.backends & (1 << _abi.BACKEND_CUDA)), "the --target all plugin has the CUDA backend")
@@ -467,6 +470,7 @@ def main():
                 expect(both, "CUDA batch: step with action 9", batch_calls_cuda, BAD_ACTION)
                 both.lib.psc_batch_destroy(b)
                 keys_outside_the_level(both, _abi.BACKEND_CUDA)
+                record(two_threads(both, _abi.BACKEND_CUDA) == on_cpu, "two threads: CUDA batches step as CPU ones")
             else:
                 expect(both, "CUDA batch without a GPU", status, (UNAVAILABLE, DEVICE))
             batch_creation(both, os.path.join(tmp, "all.so"))
