@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 
@@ -29,6 +30,20 @@
 namespace {
 
 using namespace psc;
+
+// CLI11's PositiveNumber and NonNegativeNumber name their range's upper bound
+// in a rejection, which for a double is DBL_MAX's 309 digits.
+CLI::Validator numberAbove(double low, bool orEqual) {
+    const std::string wanted = orEqual ? "a number of 0 or more" : "a positive number";
+    return CLI::Validator(
+        [=](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double value = std::strtod(text.c_str(), &end);
+            const bool ok = end != text.c_str() && *end == '\0' && (orEqual ? value >= low : value > low);
+            return ok ? std::string() : "must be " + wanted + ", not " + text;
+        },
+        orEqual ? "NONNEGATIVE" : "POSITIVE");
+}
 
 // With `cuda`, also checks that the game's generated CUDA source compiles
 // (NVRTC's front end; no GPU needed).
@@ -216,11 +231,11 @@ int main(int argc, char** argv) {
     solve->add_option("--backend", solveOptions.backend, "where states are expanded: cpu or cuda")
         ->check(CLI::IsMember({"cpu", "cuda"}));
     solve->add_option("--device", solveOptions.device, "CUDA device ordinal (--backend cuda)")->check(CLI::Range(0, 1023));
-    solve->add_option("--threads", solveOptions.threads, "CPU threads expanding states")->check(CLI::PositiveNumber);
-    solve->add_option("--time-limit", solveOptions.timeLimit, "seconds per level")->check(CLI::PositiveNumber);
+    solve->add_option("--threads", solveOptions.threads, "CPU threads expanding states")->check(numberAbove(0, false));
+    solve->add_option("--time-limit", solveOptions.timeLimit, "seconds per level")->check(numberAbove(0, false));
     solve->add_option("--max-states", solveOptions.maxStates, "distinct states per level; 0: no limit but memory");
     solve->add_option("--max-memory", solveOptions.maxMemoryMb, "MB for the states of one search; 0: half the machine's memory (GPU breadth-first: nine tenths of the free device memory)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(numberAbove(0, true));
     solve->add_option("--weight", solveOptions.weight, "wastar's weight on the estimate (>= 1)");
     solve->add_option("--beam-width", solveOptions.beamWidth, "states beam search keeps a layer; 0: from 256 (CPU) or 4,096 (GPU), four times wider each time a beam empties, to 10,000 (CPU) or 16,777,216 (GPU)");
     solve->add_option("--seed", solveOptions.seed, "the level's random seed (games that use random)");

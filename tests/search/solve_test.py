@@ -257,7 +257,9 @@ for args, message in [
     ([str(sokoban), "--algorithm", "dfs"], "dfs"),
     ([str(sokoban), "--level", "99"], "out of range"),
     ([str(sokoban), "--from-inputs", "uq"], "not an input"),
-    ([str(sokoban), "--time-limit", "0"], "time-limit"),
+    ([str(sokoban), "--time-limit", "0"], "--time-limit: must be a positive number, not 0"),
+    ([str(sokoban), "--max-memory", "-3"], "--max-memory: must be a number of 0 or more, not -3"),
+    ([str(sokoban), "--threads", "0"], "--threads: must be a positive number, not 0"),
     ([str(sokoban), "--level", "1", "--all-levels"], "exclude"),
     ([str(GAMES / "missing.txt")], "missing.txt"),
 ]:
