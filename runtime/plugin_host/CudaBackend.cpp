@@ -3,9 +3,12 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <new>
 #include <string>
 #include <type_traits>
@@ -201,6 +204,7 @@ public:
     CUstream stream = nullptr;
     DeviceBuffers dev{};
     std::vector<CUdeviceptr> allocations;
+    std::vector<size_t> allocationBytes;  // of each allocation
     psc_buffers buffers{};
     int autoReset = 0;
     int againMode = 0;
@@ -224,8 +228,16 @@ public:
         CUdeviceptr p = 0;
         if (int s = check(driver().cuMemAlloc(&p, std::max<size_t>(1, bytes)), "allocating device memory")) return s;
         allocations.push_back(p);
+        allocationBytes.push_back(std::max<size_t>(1, bytes));
         *out = reinterpret_cast<void*>(p);
         return check(driver().cuMemsetD8(p, 0, std::max<size_t>(1, bytes)), "clearing device memory");
+    }
+    // Every allocation cleared again, as allocateBytes left it.
+    int clearAllocations() {
+        for (size_t i = 0; i < allocations.size(); ++i) {
+            if (int s = check(driver().cuMemsetD8(allocations[i], 0, allocationBytes[i]), "clearing device memory")) return s;
+        }
+        return PSC_OK;
     }
     template <typename T>
     int allocate(T** out, size_t count) {
@@ -321,6 +333,94 @@ int readCounters(psc_batch* b, unsigned long long counts[4]) {
     return PSC_OK;
 }
 
+// Held while a batch reads and raises the context's stack limit, and while one
+// tunes it: a batch raising the limit as another times lower ones would
+// be left with less than its kernels need.
+std::mutex& stackLimitMutex() {
+    static std::mutex m;
+    return m;
+}
+
+// The stack limit (the context's, for all its batches) is each thread's
+// stride in local memory, so it moves the stepping kernel's speed without
+// changing what it computes: on one H200, limerick stepped 1.35x as fast
+// with 512 bytes over its kernels' bound and kettle 0.95x with 256, and
+// nothing known before a run tells the games apart (docs/performance.md,
+// "The stack's stride").  So a batch large enough to feel it times a few
+// steps of its first environments at each of a few limits and keeps the
+// fastest; its creation then starts every environment again.  The limits
+// never go below what the context has, so its other batches keep what
+// theirs need.
+constexpr int kStrideTuningEnvs = 16384;      // batches smaller than this keep the bound
+constexpr int kStrideTuningMaxEnvs = 131072;  // environments stepped to time a limit
+constexpr int kStrideTuningSteps = 8;         // steps of the first, untimed launch
+constexpr double kStrideTuningSeconds = 2e-3; // and of each timed one, about, so that launching is a small part of it
+constexpr double kStrideTuningMargin = 0.97;  // a limit kept over the lowest steps at most this share of its time
+
+int tuneStackStride(CudaBatch* cb, size_t bound, bool* stepped) {
+    const char* setting = std::getenv("PSC_CUDA_STACK_TUNING");
+    if (setting && std::strcmp(setting, "0") == 0) return PSC_OK;
+    if (bound == 0 || cb->dev.numEnvs < kStrideTuningEnvs) return PSC_OK;
+    constexpr int kStackLimit = 0;  // CU_LIMIT_STACK_SIZE
+    Driver& d = driver();
+    std::lock_guard<std::mutex> lock(stackLimitMutex());
+    size_t contextLimit = 0;
+    if (int s = check(d.cuCtxGetLimit(&contextLimit, kStackLimit), "reading the stack limit")) return s;
+    size_t power = 1;
+    while (power < bound) power *= 2;
+    std::vector<size_t> limits;
+    for (size_t limit : {bound, bound + 128, bound + 256, bound + 512, power}) limits.push_back(std::max(limit, contextLimit));
+    std::sort(limits.begin(), limits.end());
+    limits.erase(std::unique(limits.begin(), limits.end()), limits.end());
+    if (limits.size() < 2) return PSC_OK;
+    DeviceBuffers first = cb->dev;
+    first.numEnvs = std::min(cb->dev.numEnvs, kStrideTuningMaxEnvs);
+    int steps = kStrideTuningSteps;
+    int actionCount = (game().info->flags & PSC_FLAG_NOACTION) ? 4 : 5;
+    void* none = nullptr;
+    unsigned long long seed = 1, firstStep = 0;
+    int observe = 0;
+    void* args[] = {&first, &steps, &none, &seed, &actionCount, &firstStep, &none, &none, &none, &none, &observe};
+    // The first launch after the limit changes lays out local memory anew: one step, untimed.
+    auto timeLaunch = [&](size_t limit, double* seconds) -> int {
+        if (int s = check(d.cuCtxSetLimit(kStackLimit, limit), "setting the stack limit")) return s;
+        int timedSteps = steps;
+        steps = 1;
+        const int settled = cb->launch(cb->run, first.numEnvs, args, cb->runBlock, cb->runShared);
+        steps = timedSteps;
+        if (settled) return settled;
+        const auto start = std::chrono::steady_clock::now();
+        if (int s = cb->launch(cb->run, first.numEnvs, args, cb->runBlock, cb->runShared)) return s;
+        if (int s = cb->sync()) return s;
+        *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return PSC_OK;
+    };
+    double warmup = 0;
+    *stepped = true;
+    if (int s = timeLaunch(limits[0], &warmup)) return s;
+    steps = static_cast<int>(std::clamp(kStrideTuningSteps * kStrideTuningSeconds / std::max(warmup, 1e-6), 8.0, 256.0));
+    std::vector<double> best(limits.size(), 1e300);
+    for (int round = 0; round < 2; ++round) {
+        for (size_t i = 0; i < limits.size(); ++i) {
+            double seconds = 0;
+            if (int s = timeLaunch(limits[i], &seconds)) return s;
+            best[i] = std::min(best[i], seconds);
+        }
+    }
+    // The lowest limit unless another is faster by more than timing's noise.
+    const size_t fastest = static_cast<size_t>(std::min_element(best.begin(), best.end()) - best.begin());
+    const size_t kept = best[fastest] < kStrideTuningMargin * best[0] ? fastest : 0;
+    if (setting && std::strcmp(setting, "verbose") == 0) {
+        std::string line = "psc: stack limit, bytes a thread (ms for " + std::to_string(first.numEnvs) + " environments x " +
+                           std::to_string(steps) + " steps):";
+        for (size_t i = 0; i < limits.size(); ++i) {
+            line += " " + std::to_string(limits[i]) + " (" + std::to_string(best[i] * 1e3) + ")";
+        }
+        std::fprintf(stderr, "%s; kept %zu\n", line.c_str(), limits[kept]);
+    }
+    return check(d.cuCtxSetLimit(kStackLimit, limits[kept]), "setting the stack limit");
+}
+
 }  // namespace
 
 int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
@@ -346,6 +446,7 @@ int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
     ContextScope scope(cb->context);
     constexpr int kStackLimit = 0;  // CU_LIMIT_STACK_SIZE
     size_t stack = 0;
+    std::unique_lock<std::mutex> stackLock(stackLimitMutex());
     if (int s = check(d.cuCtxGetLimit(&stack, kStackLimit), "reading the stack limit")) return cleanup(s);
     if (stack < device->stackBytes) {
         // The driver refuses more than 512 kB a thread, and reserves the limit
@@ -355,6 +456,7 @@ int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
                                  "allows, at most 512 kB, runs on the CPU backend)";
         if (int s = check(d.cuCtxSetLimit(kStackLimit, device->stackBytes), what.c_str())) return cleanup(s);
     }
+    stackLock.unlock();
     const CUresult loaded = loadModule(*device, code, &cb->module);
     if (int s = check(loaded, "loading the game's kernels")) {
         cb->module = nullptr;
@@ -414,15 +516,13 @@ int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
     int firstBuilt = 0;
     while (!info.level_built[firstBuilt]) ++firstBuilt;
     // The environments' fixed settings, then every environment started at the first level built.
-    {
-        std::vector<uint64_t> envs(count * g.envBytes / 8);
-        for (int i = 0; i < n; ++i) {
-            g.initEnv(reinterpret_cast<char*>(envs.data()) + envOffset(i), info.level_entries[firstBuilt], options->auto_reset,
-                      options->again_mode, options->max_episode_steps);
-        }
-        if (int e = check(d.cuMemcpyHtoD(address(b.envs), envs.data(), count * g.envBytes), "uploading the environments")) {
-            return cleanup(e);
-        }
+    std::vector<uint64_t> envs(count * g.envBytes / 8);
+    for (int i = 0; i < n; ++i) {
+        g.initEnv(reinterpret_cast<char*>(envs.data()) + envOffset(i), info.level_entries[firstBuilt], options->auto_reset,
+                  options->again_mode, options->max_episode_steps);
+    }
+    if (int e = check(d.cuMemcpyHtoD(address(b.envs), envs.data(), count * g.envBytes), "uploading the environments")) {
+        return cleanup(e);
     }
     cb->buffers.device = options->device;
     cb->buffers.num_envs = n;
@@ -443,10 +543,25 @@ int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
     batch->maxEpisodeSteps = options->max_episode_steps;
     std::vector<int32_t> entries(count, info.level_entries[firstBuilt]);
     std::vector<std::u16string> seeds(count, u"0");
-    if (int e = cudaResetEntries(batch, nullptr, n, entries.data(), seeds)) {
+    auto destroy = [&](int status) {
         cudaBatchDestroy(batch);
         delete batch;
-        return e;
+        return status;
+    };
+    if (int e = cudaResetEntries(batch, nullptr, n, entries.data(), seeds)) return destroy(e);
+    bool stepped = false;
+    if (int e = tuneStackStride(cb, device->stackBytes, &stepped)) return destroy(e);
+    if (stepped) {
+        // Tuning stepped the environments: they start again from memory as allocated.
+        if (int e = cb->clearAllocations()) return destroy(e);
+        if (int e = check(d.cuMemcpyHtoD(address(channelObjects), g.channelObjects, sizeof(int) * static_cast<size_t>(info.object_count)),
+                          "uploading tables")) {
+            return destroy(e);
+        }
+        if (int e = check(d.cuMemcpyHtoD(address(b.envs), envs.data(), count * g.envBytes), "uploading the environments")) {
+            return destroy(e);
+        }
+        if (int e = cudaResetEntries(batch, nullptr, n, entries.data(), seeds)) return destroy(e);
     }
     *out = batch;
     return PSC_OK;

@@ -444,6 +444,29 @@ def two_threads(p, backend=_abi.BACKEND_CPU):
     return alone
 
 
+def tuned_batch_steps_as_cpu(p):
+    """A CUDA batch large enough to time its stack limits at creation (which
+    steps its environments) starts them again: it steps as a CPU batch does."""
+    lib = p.lib
+    n = 16384
+    words = p.info.state_key_bytes // 8
+    envs = (c_int32 * n)(*range(n))
+
+    def run(backend):
+        b = p.create(num_envs=n, threads=2, backend=backend)
+        acts = (c_int32 * n)()
+        for step in range(20):
+            acts[:] = [(e * 7 + step * 3) % 5 for e in range(n)]
+            expect(p, "step a batch of 16,384", lib.psc_step(b, acts, None), OK)
+        keys = (c_uint64 * (n * words))()
+        expect(p, "encode a batch of 16,384", lib.psc_encode_states(b, envs, n, keys, None), OK)
+        lib.psc_batch_destroy(b)
+        return bytes(keys)
+
+    record(run(_abi.BACKEND_CUDA) == run(_abi.BACKEND_CPU),
+           "a CUDA batch of 16,384 environments, its stack limit timed at creation, steps as a CPU batch")
+
+
 def build(target, out, *options):
     r = subprocess.run([PSC, GAME, "-o", out, "--target", target, *options], capture_output=True, text=True)
     if r.returncode != 0:
@@ -471,6 +494,8 @@ def main():
                 both.lib.psc_batch_destroy(b)
                 keys_outside_the_level(both, _abi.BACKEND_CUDA)
                 record(two_threads(both, _abi.BACKEND_CUDA) == on_cpu, "two threads: CUDA batches step as CPU ones")
+                # The memory layout, whose kernels use a stack (the registers layout's may not).
+                tuned_batch_steps_as_cpu(Plugin(build("all", os.path.join(tmp, "memory.so"), "--gpu-state", "memory")))
             else:
                 expect(both, "CUDA batch without a GPU", status, (UNAVAILABLE, DEVICE))
             batch_creation(both, os.path.join(tmp, "all.so"))
