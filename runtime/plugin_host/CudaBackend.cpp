@@ -18,6 +18,7 @@
 #include "ExpandDeadline.h"
 #include "HostErrors.h"
 #include "PluginFile.h"
+#include "StackStride.h"
 
 namespace psc_host {
 namespace {
@@ -345,17 +346,14 @@ std::mutex& stackLimitMutex() {
 // stride in local memory, so it moves the stepping kernel's speed without
 // changing what it computes: on one H200, limerick stepped 1.35x as fast
 // with 512 bytes over its kernels' bound and kettle 0.95x with 256, and
-// nothing known before a run tells the games apart (docs/performance.md,
-// "The stack's stride").  So a batch large enough to feel it times a few
-// steps of its first environments at each of a few limits and keeps the
-// fastest; its creation then starts every environment again.  The limits
-// never go below what the context has, so its other batches keep what
-// theirs need.
+// nothing known before a run tells the games apart (StackStride.h).  So a
+// batch large enough to feel it times a few steps of its first environments
+// at each of a few limits and keeps the fastest; its creation then starts
+// every environment again.
 constexpr int kStrideTuningEnvs = 16384;      // batches smaller than this keep the bound
 constexpr int kStrideTuningMaxEnvs = 131072;  // environments stepped to time a limit
 constexpr int kStrideTuningSteps = 8;         // steps of the first, untimed launch
 constexpr double kStrideTuningSeconds = 2e-3; // and of each timed one, about, so that launching is a small part of it
-constexpr double kStrideTuningMargin = 0.97;  // a limit kept over the lowest steps at most this share of its time
 
 int tuneStackStride(CudaBatch* cb, size_t bound, bool* stepped) {
     const char* setting = std::getenv("PSC_CUDA_STACK_TUNING");
@@ -366,12 +364,7 @@ int tuneStackStride(CudaBatch* cb, size_t bound, bool* stepped) {
     std::lock_guard<std::mutex> lock(stackLimitMutex());
     size_t contextLimit = 0;
     if (int s = check(d.cuCtxGetLimit(&contextLimit, kStackLimit), "reading the stack limit")) return s;
-    size_t power = 1;
-    while (power < bound) power *= 2;
-    std::vector<size_t> limits;
-    for (size_t limit : {bound, bound + 128, bound + 256, bound + 512, power}) limits.push_back(std::max(limit, contextLimit));
-    std::sort(limits.begin(), limits.end());
-    limits.erase(std::unique(limits.begin(), limits.end()), limits.end());
+    const std::vector<size_t> limits = strideCandidates(bound, contextLimit);
     if (limits.size() < 2) return PSC_OK;
     DeviceBuffers first = cb->dev;
     first.numEnvs = std::min(cb->dev.numEnvs, kStrideTuningMaxEnvs);
@@ -407,9 +400,7 @@ int tuneStackStride(CudaBatch* cb, size_t bound, bool* stepped) {
             best[i] = std::min(best[i], seconds);
         }
     }
-    // The lowest limit unless another is faster by more than timing's noise.
-    const size_t fastest = static_cast<size_t>(std::min_element(best.begin(), best.end()) - best.begin());
-    const size_t kept = best[fastest] < kStrideTuningMargin * best[0] ? fastest : 0;
+    const size_t kept = keptStride(best);
     if (setting && std::strcmp(setting, "verbose") == 0) {
         std::string line = "psc: stack limit, bytes a thread (ms for " + std::to_string(first.numEnvs) + " environments x " +
                            std::to_string(steps) + " steps):";
