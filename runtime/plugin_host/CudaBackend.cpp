@@ -352,8 +352,8 @@ std::mutex& stackLimitMutex() {
 // every environment again.
 constexpr int kStrideTuningEnvs = 16384;      // batches smaller than this keep the bound
 constexpr int kStrideTuningMaxEnvs = 131072;  // environments stepped to time a limit
-constexpr int kStrideTuningSteps = 8;         // steps of the first, untimed launch
-constexpr double kStrideTuningSeconds = 2e-3; // and of each timed one, about, so that launching is a small part of it
+constexpr double kStrideTuningSeconds = 2e-3;      // a timed launch, about, so that launching is a small part of it
+constexpr double kStrideTuningMaxStepSeconds = 0.02;  // a step slower than this: the bound is kept, the timing too long
 
 int tuneStackStride(CudaBatch* cb, size_t bound, bool* stepped) {
     const char* setting = std::getenv("PSC_CUDA_STACK_TUNING");
@@ -368,7 +368,7 @@ int tuneStackStride(CudaBatch* cb, size_t bound, bool* stepped) {
     if (limits.size() < 2) return PSC_OK;
     DeviceBuffers first = cb->dev;
     first.numEnvs = std::min(cb->dev.numEnvs, kStrideTuningMaxEnvs);
-    int steps = kStrideTuningSteps;
+    int steps = 1;
     int actionCount = (game().info->flags & PSC_FLAG_NOACTION) ? 4 : 5;
     void* none = nullptr;
     unsigned long long seed = 1, firstStep = 0;
@@ -388,10 +388,17 @@ int tuneStackStride(CudaBatch* cb, size_t bound, bool* stepped) {
         *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return PSC_OK;
     };
-    double warmup = 0;
+    double step = 0;
     *stepped = true;
-    if (int s = timeLaunch(limits[0], &warmup)) return s;
-    steps = static_cast<int>(std::clamp(kStrideTuningSteps * kStrideTuningSeconds / std::max(warmup, 1e-6), 8.0, 256.0));
+    if (int s = timeLaunch(limits[0], &step)) return s;
+    if (step > kStrideTuningMaxStepSeconds) {
+        if (setting && std::strcmp(setting, "verbose") == 0) {
+            std::fprintf(stderr, "psc: stack limit kept at %zu bytes a thread: a step of %d environments took %.1f ms, too long to time\n",
+                         limits[0], first.numEnvs, step * 1e3);
+        }
+        return PSC_OK;
+    }
+    steps = static_cast<int>(std::clamp(kStrideTuningSeconds / std::max(step, 1e-6), 1.0, 256.0));
     std::vector<double> best(limits.size(), 1e300);
     for (int round = 0; round < 2; ++round) {
         for (size_t i = 0; i < limits.size(); ++i) {
