@@ -334,6 +334,8 @@ int readCounters(psc_batch* b, unsigned long long counts[4]) {
     return PSC_OK;
 }
 
+constexpr int kStackLimit = 0;  // CU_LIMIT_STACK_SIZE
+
 // Held while a batch reads and raises the context's stack limit, and while one
 // tunes it: a batch raising the limit as another times lower ones would
 // be left with less than its kernels need.
@@ -359,7 +361,7 @@ int tuneStackStride(CudaBatch* cb, size_t bound, bool* stepped) {
     const char* setting = std::getenv("PSC_CUDA_STACK_TUNING");
     if (setting && std::strcmp(setting, "0") == 0) return PSC_OK;
     if (bound == 0 || cb->dev.numEnvs < kStrideTuningEnvs) return PSC_OK;
-    constexpr int kStackLimit = 0;  // CU_LIMIT_STACK_SIZE
+    const bool verbose = setting && std::strcmp(setting, "verbose") == 0;
     Driver& d = driver();
     std::lock_guard<std::mutex> lock(stackLimitMutex());
     size_t contextLimit = 0;
@@ -368,49 +370,49 @@ int tuneStackStride(CudaBatch* cb, size_t bound, bool* stepped) {
     if (limits.size() < 2) return PSC_OK;
     DeviceBuffers first = cb->dev;
     first.numEnvs = std::min(cb->dev.numEnvs, kStrideTuningMaxEnvs);
-    int steps = 1;
+    int steps = 0;  // the kernel's argument, set by launchSteps
     int actionCount = (game().info->flags & PSC_FLAG_NOACTION) ? 4 : 5;
     void* none = nullptr;
     unsigned long long seed = 1, firstStep = 0;
     int observe = 0;
     void* args[] = {&first, &steps, &none, &seed, &actionCount, &firstStep, &none, &none, &none, &none, &observe};
+    auto launchSteps = [&](int count) {
+        steps = count;
+        return cb->launch(cb->run, first.numEnvs, args, cb->runBlock, cb->runShared);
+    };
     // The first launch after the limit changes lays out local memory anew: one step, untimed.
-    auto timeLaunch = [&](size_t limit, double* seconds) -> int {
+    auto timeLaunch = [&](size_t limit, int count, double* seconds) -> int {
         if (int s = check(d.cuCtxSetLimit(kStackLimit, limit), "setting the stack limit")) return s;
-        int timedSteps = steps;
-        steps = 1;
-        const int settled = cb->launch(cb->run, first.numEnvs, args, cb->runBlock, cb->runShared);
-        steps = timedSteps;
-        if (settled) return settled;
+        if (int s = launchSteps(1)) return s;
         const auto start = std::chrono::steady_clock::now();
-        if (int s = cb->launch(cb->run, first.numEnvs, args, cb->runBlock, cb->runShared)) return s;
+        if (int s = launchSteps(count)) return s;
         if (int s = cb->sync()) return s;
         *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return PSC_OK;
     };
     double step = 0;
     *stepped = true;
-    if (int s = timeLaunch(limits[0], &step)) return s;
+    if (int s = timeLaunch(limits[0], 1, &step)) return s;
     if (step > kStrideTuningMaxStepSeconds) {
-        if (setting && std::strcmp(setting, "verbose") == 0) {
+        if (verbose) {
             std::fprintf(stderr, "psc: stack limit kept at %zu bytes a thread: a step of %d environments took %.1f ms, too long to time\n",
                          limits[0], first.numEnvs, step * 1e3);
         }
         return PSC_OK;
     }
-    steps = static_cast<int>(std::clamp(kStrideTuningSeconds / std::max(step, 1e-6), 1.0, 256.0));
+    const int timedSteps = static_cast<int>(std::clamp(kStrideTuningSeconds / std::max(step, 1e-6), 1.0, 256.0));
     std::vector<double> best(limits.size(), 1e300);
     for (int round = 0; round < 2; ++round) {
         for (size_t i = 0; i < limits.size(); ++i) {
             double seconds = 0;
-            if (int s = timeLaunch(limits[i], &seconds)) return s;
+            if (int s = timeLaunch(limits[i], timedSteps, &seconds)) return s;
             best[i] = std::min(best[i], seconds);
         }
     }
     const size_t kept = keptStride(best);
-    if (setting && std::strcmp(setting, "verbose") == 0) {
+    if (verbose) {
         std::string line = "psc: stack limit, bytes a thread (ms for " + std::to_string(first.numEnvs) + " environments x " +
-                           std::to_string(steps) + " steps):";
+                           std::to_string(timedSteps) + " steps):";
         for (size_t i = 0; i < limits.size(); ++i) {
             line += " " + std::to_string(limits[i]) + " (" + std::to_string(best[i] * 1e3) + ")";
         }
@@ -442,19 +444,19 @@ int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
         return cleanup(s);
     }
     ContextScope scope(cb->context);
-    constexpr int kStackLimit = 0;  // CU_LIMIT_STACK_SIZE
-    size_t stack = 0;
-    std::unique_lock<std::mutex> stackLock(stackLimitMutex());
-    if (int s = check(d.cuCtxGetLimit(&stack, kStackLimit), "reading the stack limit")) return cleanup(s);
-    if (stack < device->stackBytes) {
-        // The driver refuses more than 512 kB a thread, and reserves the limit
-        // for every thread the GPU can hold.
-        const std::string what = "raising the stack limit to the " + std::to_string(device->stackBytes) +
-                                 " bytes a thread this game's kernels need (a game whose levels need more than the driver "
-                                 "allows, at most 512 kB, runs on the CPU backend)";
-        if (int s = check(d.cuCtxSetLimit(kStackLimit, device->stackBytes), what.c_str())) return cleanup(s);
+    {
+        std::lock_guard<std::mutex> lock(stackLimitMutex());
+        size_t stack = 0;
+        if (int s = check(d.cuCtxGetLimit(&stack, kStackLimit), "reading the stack limit")) return cleanup(s);
+        if (stack < device->stackBytes) {
+            // The driver refuses more than 512 kB a thread, and reserves the limit
+            // for every thread the GPU can hold.
+            const std::string what = "raising the stack limit to the " + std::to_string(device->stackBytes) +
+                                     " bytes a thread this game's kernels need (a game whose levels need more than the driver "
+                                     "allows, at most 512 kB, runs on the CPU backend)";
+            if (int s = check(d.cuCtxSetLimit(kStackLimit, device->stackBytes), what.c_str())) return cleanup(s);
+        }
     }
-    stackLock.unlock();
     const CUresult loaded = loadModule(*device, code, &cb->module);
     if (int s = check(loaded, "loading the game's kernels")) {
         cb->module = nullptr;
@@ -504,23 +506,16 @@ int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
     }
     if (s) return cleanup(s);
     b.channelObjects = channelObjects;
-    if (int e = check(d.cuMemcpyHtoD(address(channelObjects), g.channelObjects, sizeof(int) * static_cast<size_t>(info.object_count)),
-                      "uploading tables")) {
-        return cleanup(e);
-    }
     cb->autoReset = options->auto_reset;
     cb->againMode = options->again_mode;
     cb->maxEpisodeSteps = options->max_episode_steps;
     int firstBuilt = 0;
     while (!info.level_built[firstBuilt]) ++firstBuilt;
-    // The environments' fixed settings, then every environment started at the first level built.
+    // The environments' fixed settings, then (below) every environment started at the first level built.
     std::vector<uint64_t> envs(count * g.envBytes / 8);
     for (int i = 0; i < n; ++i) {
         g.initEnv(reinterpret_cast<char*>(envs.data()) + envOffset(i), info.level_entries[firstBuilt], options->auto_reset,
                   options->again_mode, options->max_episode_steps);
-    }
-    if (int e = check(d.cuMemcpyHtoD(address(b.envs), envs.data(), count * g.envBytes), "uploading the environments")) {
-        return cleanup(e);
     }
     cb->buffers.device = options->device;
     cb->buffers.num_envs = n;
@@ -546,20 +541,21 @@ int cudaBatchCreate(const psc_batch_options* options, psc_batch** out) {
         delete batch;
         return status;
     };
-    if (int e = cudaResetEntries(batch, nullptr, n, entries.data(), seeds)) return destroy(e);
-    bool stepped = false;
-    if (int e = tuneStackStride(cb, device->stackBytes, &stepped)) return destroy(e);
-    if (stepped) {
-        // Tuning stepped the environments: they start again from memory as allocated.
-        if (int e = cb->clearAllocations()) return destroy(e);
+    // Into memory as allocated: the tables, the environments' settings, and each started.
+    auto start = [&]() -> int {
         if (int e = check(d.cuMemcpyHtoD(address(channelObjects), g.channelObjects, sizeof(int) * static_cast<size_t>(info.object_count)),
                           "uploading tables")) {
-            return destroy(e);
+            return e;
         }
-        if (int e = check(d.cuMemcpyHtoD(address(b.envs), envs.data(), count * g.envBytes), "uploading the environments")) {
-            return destroy(e);
-        }
-        if (int e = cudaResetEntries(batch, nullptr, n, entries.data(), seeds)) return destroy(e);
+        if (int e = check(d.cuMemcpyHtoD(address(b.envs), envs.data(), count * g.envBytes), "uploading the environments")) return e;
+        return cudaResetEntries(batch, nullptr, n, entries.data(), seeds);
+    };
+    if (int e = start()) return destroy(e);
+    bool stepped = false;
+    if (int e = tuneStackStride(cb, device->stackBytes, &stepped)) return destroy(e);
+    if (stepped) {  // tuning stepped the environments: they start again
+        if (int e = cb->clearAllocations()) return destroy(e);
+        if (int e = start()) return destroy(e);
     }
     *out = batch;
     return PSC_OK;
