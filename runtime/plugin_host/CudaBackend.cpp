@@ -353,9 +353,7 @@ std::mutex& stackLimitMutex() {
 // at each of a few limits and keeps the fastest; its creation then starts
 // every environment again.
 constexpr int kStrideTuningEnvs = 16384;      // batches smaller than this keep the bound
-constexpr int kStrideTuningMaxEnvs = 131072;  // environments stepped to time a limit
-constexpr double kStrideTuningSeconds = 2e-3;      // a timed launch, about, so that launching is a small part of it
-constexpr double kStrideTuningMaxStepSeconds = 0.02;  // a step slower than this: the bound is kept, the timing too long
+constexpr int kStrideTuningMaxEnvs = 32768;  // environments stepped to time a limit
 
 int tuneStackStride(CudaBatch* cb, size_t bound, bool* stepped) {
     const char* setting = std::getenv("PSC_CUDA_STACK_TUNING");
@@ -393,14 +391,14 @@ int tuneStackStride(CudaBatch* cb, size_t bound, bool* stepped) {
     double step = 0;
     *stepped = true;
     if (int s = timeLaunch(limits[0], 1, &step)) return s;
-    if (step > kStrideTuningMaxStepSeconds) {
+    if (step > kMaxTimedStepSeconds) {
         if (verbose) {
             std::fprintf(stderr, "psc: stack limit kept at %zu bytes a thread: a step of %d environments took %.1f ms, too long to time\n",
                          limits[0], first.numEnvs, step * 1e3);
         }
         return PSC_OK;
     }
-    const int timedSteps = static_cast<int>(std::clamp(kStrideTuningSeconds / std::max(step, 1e-6), 1.0, 256.0));
+    const int timedSteps = timedStepCount(step);
     std::vector<double> best(limits.size(), 1e300);
     for (int round = 0; round < 2; ++round) {
         for (size_t i = 0; i < limits.size(); ++i) {

@@ -36,4 +36,18 @@ inline size_t keptStride(const std::vector<double>& seconds) {
     return seconds[fastest] < kStrideMargin * seconds[0] ? fastest : 0;
 }
 
+// Steps a timed launch takes, from one step's time.  Every launch also loads
+// and stores each environment it steps (for limerick's 16,384, about 0.2 ms,
+// the time of some 20 steps), a cost that the stride moves otherwise and that
+// hides its effect on stepping in a short launch: at 9 steps a launch limerick
+// kept its bound, 1.33x slower at large batches than the 4,096 bytes that 51
+// steps a launch kept.  So at least 64 steps, about 4 ms, at most 256.
+inline int timedStepCount(double stepSeconds) {
+    return static_cast<int>(std::clamp(4e-3 / std::max(stepSeconds, 1e-6), 64.0, 256.0));
+}
+
+// A step slower than this keeps the bound untimed: 11 launches of 64 such
+// steps would add seconds to the batch's creation.
+constexpr double kMaxTimedStepSeconds = 2.5e-3;
+
 }  // namespace psc_host

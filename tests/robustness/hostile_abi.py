@@ -463,8 +463,23 @@ def tuned_batch_steps_as_cpu(p):
         lib.psc_batch_destroy(b)
         return bytes(keys)
 
-    record(run(_abi.BACKEND_CUDA) == run(_abi.BACKEND_CPU),
+    on_cpu = run(_abi.BACKEND_CPU)
+    record(run(_abi.BACKEND_CUDA) == on_cpu,
            "a CUDA batch of 16,384 environments, its stack limit timed at creation, steps as a CPU batch")
+    # Two such batches created at once time their limits under one lock: neither
+    # may lower the limit the other's kernels run at.
+    together = [None, None]
+
+    def run_into(k):
+        together[k] = run(_abi.BACKEND_CUDA)
+
+    threads = [threading.Thread(target=run_into, args=(k,)) for k in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    record(together == [on_cpu, on_cpu],
+           "two CUDA batches of 16,384 created and stepped in two threads at once step as a CPU batch")
 
 
 def build(target, out, *options):

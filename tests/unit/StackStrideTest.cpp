@@ -26,3 +26,11 @@ TEST_CASE("a higher stack limit is kept only where it is more than 3 % faster th
     CHECK(keptStride({1.0, 0.5, 0.96}) == 1);
     CHECK(keptStride({0.9, 1.2, 1.1}) == 0);
 }
+
+TEST_CASE("a timed launch takes at least 64 steps, about 4 ms of them, at most 256", "[stack]") {
+    using psc_host::timedStepCount;
+    CHECK(timedStepCount(0.22e-3) == 64);  // limerick's first step over 16,384, its launch's loads and stores in it
+    CHECK(timedStepCount(0.02e-3) == 200);
+    CHECK(timedStepCount(1e-9) == 256);
+    CHECK(timedStepCount(2.4e-3) == 64);  // the slowest step still timed
+}
