@@ -876,6 +876,7 @@ RuleFormChoice ruleForm(const ir::Game& game, const SourceOptions& options) {
     CodeWriter rules;
     RuleUnits weighed;
     weighed.directionSets = false;
+    weighed.oneMatchPaths = false;
     emitRules(rules, game, weighed, &choice.groupCodeBytes);
     choice.codeBytes = rules.text().size();
     const double megabytes = static_cast<double>(choice.codeBytes) / 1e6;

@@ -53,6 +53,11 @@ struct RuleUnits {
     // templates/core.h).  Off where code is weighed, so that the layout and
     // its units are chosen on the same code with and without it.
     bool rolledPasses = false;
+    // The path for one match a row of a rule of several rows (RuleCode's
+    // emitOneMatchPath, compiled where PSC_MASK_WRITES is set).  Off where
+    // code is weighed, so that the layout is chosen on the same code with
+    // and without it.
+    bool oneMatchPaths = true;
 };
 
 // Emits rule_* and group_* functions and applyEarlyRules/applyLateRules.
