@@ -10,6 +10,7 @@
 #include "Identifiers.h"
 #include "RuleParts.h"
 #include "DormantGroups.h"
+#include "SinglePassGroups.h"
 #include "ir/IrDump.h"
 
 namespace psc::codegen {
@@ -730,10 +731,30 @@ struct Piece {
 };
 
 // The group's function: passes over its rules, or (random) one match drawn from all of theirs.
-void emitGroupFunction(CodeWriter& out, const ir::RuleGroup& group, size_t index, bool late,
+// One pass's calls of a group's rules, each behind the boards it needs.
+void emitRuleCalls(CodeWriter& out, const std::vector<RuleNames>& names) {
+    for (const auto& n : names) {
+        const std::string call = n.apply + "(e, t)";
+        out.line("any |= " + (n.needs.empty() ? call : "(PSC_RULE_NEEDS(" + n.needs + ") && " + call + ")") + ";");
+    }
+}
+
+void emitGroupFunction(CodeWriter& out, const Game& g, const ir::RuleGroup& group, size_t index, bool late,
                        const std::vector<RuleNames>& names, bool inPlace, bool rolledPasses = false) {
     const std::string name = groupName(group, index, late);
     const std::string state = inPlace ? "PSC_GROUP_IN_PLACE(env, turn);" : "PSC_GROUP_WORKING_COPY(env, turn);";
+    if (!group.random && passesOnce(g, group)) {
+        out.line(fmt::format("// group {} (line {}): one pass over its rules, after which none can match (passesOnce)", index,
+                             group.groupNumber));
+        out.open("PSC_DEVICE PSC_GROUP bool " + name + "(Env& env, Turn& turn)");
+        out.line(state);
+        out.line("bool any = false;");
+        emitRuleCalls(out, names);
+        out.line("return any;");
+        out.close();
+        out.line();
+        return;
+    }
     if (!group.random) {
         out.line(fmt::format("// group {} (line {}): passes over its rules until one changes nothing, at most 200",
                              index, group.groupNumber));
@@ -742,10 +763,7 @@ void emitGroupFunction(CodeWriter& out, const ir::RuleGroup& group, size_t index
         out.line("bool changed = false;");
         out.open(std::string(rolledPasses ? "PSC_PASSES " : "") + "for (int pass = 0; pass < 200; ++pass)");
         out.line("bool any = false;");
-        for (const auto& n : names) {
-            const std::string call = n.apply + "(e, t)";
-            out.line("any |= " + (n.needs.empty() ? call : "(PSC_RULE_NEEDS(" + n.needs + ") && " + call + ")") + ";");
-        }
+        emitRuleCalls(out, names);
         out.line("if (!any) break;");
         out.line("changed = true;");
         out.close();
@@ -901,12 +919,12 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
             first = last;
         }
         CodeWriter code(indent);
-        emitGroupFunction(code, group, index, late, parts, true);
+        emitGroupFunction(code, g, group, index, late, parts, true);
         add({code.text(), {groupDeclaration(name)}}, false);
         return;
     }
     CodeWriter code(indent);
-    emitGroupFunction(code, group, index, late, names, inPlace, layout.rolledPasses);
+    emitGroupFunction(code, g, group, index, late, names, inPlace, layout.rolledPasses);
     Piece function{code.text(), {groupDeclaration(name)}};
     if (layout.apart) {
         for (auto& rule : rules) add(std::move(rule), false);
