@@ -211,8 +211,15 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
         out.line(fmt::format("#define PSC_GROUP_SPANS {}  // a unit's groups of a phase run on one copy (templates/core.h)",
                              gpu.rules.spans ? 1 : 0));
     }
+    const bool unrolledWords = gpu.inRegisters || boardWords(g, o) <= kMaxUnrolledBoardWords;
     out.line(fmt::format("#define PSC_UNROLL_BOARD_WORDS {}  // the GPU unrolls loops over objects, layers and words",
-                         gpu.inRegisters || boardWords(g, o) <= kMaxUnrolledBoardWords ? 1 : 0));
+                         unrolledWords ? 1 : 0));
+    if (unrolledWords) {
+        std::string steps;
+        for (int k = 0; k < boardWords(g, o); ++k) steps += fmt::format(" PSC_WORD_STEP({}, n, i, __VA_ARGS__)", k);
+        out.line("// A loop over a board's words written out, a step a word (PSC_FOR_WORDS, templates/core.h).");
+        out.line("#define PSC_WORD_STEPS(n, i, ...)" + steps);
+    }
     if (o.target != "cpu") {
         out.line(fmt::format("#define PSC_COMPILE_UNITS {}  // programs NVRTC compiles at once (templates/core.h)",
                              gpu.units));

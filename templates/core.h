@@ -197,6 +197,31 @@
 #endif
 #endif
 
+// Loops over a board's words.  Where they are unrolled (PSC_UNROLL_BOARD_WORDS),
+// the preprocessor writes out one step a word (PSC_WORD_STEPS, which the
+// generated code defines for its word count, codegen/CppSource.cpp): NVVM
+// then has no loop to unroll in each of the thousands of board operations a
+// stepping kernel inlines, which took a fifth of its compile time (slidings'
+// stepping unit, docs/performance.md).  The body may return; it may not
+// break or continue.
+#if PSC_UNROLL_BOARD_WORDS
+#define PSC_WORD_STEP(k, n, i, ...) \
+    if constexpr ((k) < (n)) {      \
+        constexpr int i = (k);      \
+        __VA_ARGS__                 \
+    }
+#define PSC_FOR_WORDS(i, n, ...) do { PSC_WORD_STEPS(n, i, __VA_ARGS__) } while (0)
+#else
+#define PSC_FOR_WORDS(i, n, ...) do { PSC_UNROLL for (int i = 0; i < (n); ++i) { __VA_ARGS__ } } while (0)
+#endif
+// The loops over a rule's matched cells (PSC_FOR_VERTICAL, PSC_FOR_HORIZONTAL)
+// stay loops on the GPU: with the words written out they became innermost
+// loops, which NVVM unrolled into longer kernels.
+#if defined(__CUDACC__)
+#define PSC_CELL_LOOP _Pragma("unroll 1")
+#else
+#define PSC_CELL_LOOP
+#endif
 #if !defined(PSC_DEFINES_TURN)
 #define PSC_DEFINES_TURN 1
 #endif
@@ -276,26 +301,26 @@ struct Board {
     Board() = default;
     PSC_DEVICE PSC_INLINE Board(const Board& o) { *this = o; }
     PSC_DEVICE PSC_INLINE Board& operator=(const Board& o) {
-        PSC_UNROLL for (int i = 0; i < kWords; ++i) w[i] = o.w[i];
+        PSC_FOR_WORDS(i, kWords, w[i] = o.w[i];);
         return *this;
     }
 #endif
 
     PSC_DEVICE PSC_INLINE static Board zero() {
         Board b;
-        PSC_UNROLL for (int i = 0; i < kWords; ++i) b.w[i] = 0;
+        PSC_FOR_WORDS(i, kWords, b.w[i] = 0;);
         return b;
     }
     PSC_DEVICE PSC_INLINE bool any() const {
         u64 a = 0;
-        PSC_UNROLL for (int i = 0; i < kWords; ++i) a |= w[i];
+        PSC_FOR_WORDS(i, kWords, a |= w[i];);
         return a != 0;
     }
     PSC_DEVICE PSC_INLINE u64 word(int i) const {
         if (kWords == 1) return w[0];
         if (!kSelectWords) return w[i];
         u64 v = 0;
-        PSC_UNROLL for (int k = 0; k < kWords; ++k) v = k == i ? w[k] : v;
+        PSC_FOR_WORDS(k, kWords, v = k == i ? w[k] : v;);
         return v;
     }
     // Applies f to word i.
@@ -306,7 +331,7 @@ struct Board {
         } else if (!kSelectWords) {
             w[i] = f(w[i]);
         } else {
-            PSC_UNROLL for (int k = 0; k < kWords; ++k) w[k] = k == i ? f(w[k]) : w[k];
+            PSC_FOR_WORDS(k, kWords, w[k] = k == i ? f(w[k]) : w[k];);
         }
     }
     PSC_DEVICE PSC_INLINE bool test(int p) const { return (word(p >> 6) >> (p & 63)) & 1u; }
@@ -330,53 +355,53 @@ struct Board {
     // Sets every position of `where` to v; returns whether any changed.
     PSC_DEVICE PSC_INLINE bool assignWhere(const Board& where, bool v) {
         u64 changed = 0;
-        PSC_UNROLL for (int i = 0; i < kWords; ++i) {
+        PSC_FOR_WORDS(i, kWords,
             const u64 next = v ? (w[i] | where.w[i]) : (w[i] & ~where.w[i]);
             changed |= next ^ w[i];
             w[i] = next;
-        }
+        );
         return changed != 0;
     }
     // The lowest set position (the board must not be empty), and clearing it.
     PSC_DEVICE PSC_INLINE int lowest() const {
-        PSC_UNROLL for (int i = 0; i < kWords - 1; ++i) {
+        PSC_FOR_WORDS(i, kWords - 1,
             if (w[i]) return i * 64 + lowestBit(w[i]);
-        }
+        );
         return (kWords - 1) * 64 + lowestBit(w[kWords - 1]);
     }
     PSC_DEVICE PSC_INLINE void dropLowest() {
         bool done = false;
-        PSC_UNROLL for (int i = 0; i < kWords; ++i) {
+        PSC_FOR_WORDS(i, kWords,
             const bool here = !done && w[i] != 0;
             w[i] = here ? w[i] & (w[i] - 1) : w[i];
             done = done || here;
-        }
+        );
     }
     PSC_DEVICE PSC_INLINE int count() const {
         int n = 0;
-        PSC_UNROLL for (int i = 0; i < kWords; ++i) n += popcount(w[i]);
+        PSC_FOR_WORDS(i, kWords, n += popcount(w[i]););
         return n;
     }
     PSC_DEVICE PSC_INLINE bool operator==(const Board& o) const {
         u64 d = 0;
-        PSC_UNROLL for (int i = 0; i < kWords; ++i) d |= w[i] ^ o.w[i];
+        PSC_FOR_WORDS(i, kWords, d |= w[i] ^ o.w[i];);
         return d == 0;
     }
 };
 
 PSC_DEVICE PSC_INLINE Board operator&(const Board& a, const Board& b) {
     Board r;
-    PSC_UNROLL for (int i = 0; i < kWords; ++i) r.w[i] = a.w[i] & b.w[i];
+    PSC_FOR_WORDS(i, kWords, r.w[i] = a.w[i] & b.w[i];);
     return r;
 }
 PSC_DEVICE PSC_INLINE Board operator|(const Board& a, const Board& b) {
     Board r;
-    PSC_UNROLL for (int i = 0; i < kWords; ++i) r.w[i] = a.w[i] | b.w[i];
+    PSC_FOR_WORDS(i, kWords, r.w[i] = a.w[i] | b.w[i];);
     return r;
 }
 PSC_DEVICE PSC_INLINE Board andNot(const Board& a, const Board& b) {
     Board r;
-    PSC_UNROLL for (int i = 0; i < kWords; ++i) r.w[i] = a.w[i] & ~b.w[i];
+    PSC_FOR_WORDS(i, kWords, r.w[i] = a.w[i] & ~b.w[i];);
     return r;
 }
 // b where `keep`, else empty, without a branch (a rule's direction copies
@@ -384,7 +409,7 @@ PSC_DEVICE PSC_INLINE Board andNot(const Board& a, const Board& b) {
 PSC_DEVICE PSC_INLINE Board onlyIf(const Board& b, bool keep) {
     const u64 mask = 0ull - static_cast<u64>(keep);
     Board r;
-    PSC_UNROLL for (int i = 0; i < kWords; ++i) r.w[i] = b.w[i] & mask;
+    PSC_FOR_WORDS(i, kWords, r.w[i] = b.w[i] & mask;);
     return r;
 }
 // Moves bit `from` of b to `to` (when set).
@@ -394,6 +419,10 @@ PSC_DEVICE PSC_INLINE void moveBit(Board& b, int from, int to) {
     if (held) b.set(to);
 }
 
+// The shifts keep their word loops (PSC_UNROLL): written out by the
+// preprocessor, NVVM left the stepping kernels of three- and four-word boards
+// 1-1.5 kB more stack (blocks, zenpuzzle, constellationz) for at most 0.1 s
+// less compile time.
 // Bit p of the result is bit p + n of b (cells n positions further on).
 PSC_DEVICE PSC_INLINE Board shiftDown(const Board& b, int n) {
     Board r;
@@ -787,11 +816,12 @@ PSC_DEVICE PSC_INLINE bool putMovementChosenWhere(Env& e, const Board& where, in
 // scans (column-major: increasing position), and a horizontal rule scans
 // (row-major: row by row, x increasing).  `continue` moves to the next position.
 #define PSC_FOR_VERTICAL(m, s)                                                        \
-    for (Board s##_rest = (m); s##_rest.any(); s##_rest.dropLowest())                 \
+    PSC_CELL_LOOP for (Board s##_rest = (m); s##_rest.any(); s##_rest.dropLowest())   \
         for (int s = s##_rest.lowest(), s##_once = 1; s##_once; s##_once = 0)
 #define PSC_FOR_HORIZONTAL(e, m, s)                                                   \
-    for (Board s##_rows = (m), s##_mask = (e).rowStart; s##_rows.any() && s##_mask.any(); \
-         s##_rows = andNot(s##_rows, s##_mask), s##_mask = shiftUp(s##_mask, 1))        \
+    PSC_CELL_LOOP for (Board s##_rows = (m), s##_mask = (e).rowStart;                 \
+                       s##_rows.any() && s##_mask.any();                              \
+                       s##_rows = andNot(s##_rows, s##_mask), s##_mask = shiftUp(s##_mask, 1)) \
         PSC_FOR_VERTICAL(s##_rows & s##_mask, s)
 
 }  // namespace psc_game

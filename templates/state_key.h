@@ -54,11 +54,11 @@ PSC_DEVICE inline void encodeKey(const Env& e, u64* key) {
     int at = 0;
     key[at++] = keyHeader(e);
     PSC_UNROLL_STATE for (int k = 0; k < kKeyObjectCount; ++k) {
-        PSC_UNROLL for (int w = 0; w < kWords; ++w) key[at++] = e.obj[kKeyObjects[k]].w[w];
+        PSC_FOR_WORDS(w, kWords, key[at++] = e.obj[kKeyObjects[k]].w[w];);
     }
     if (kHasCheckpoint) {
         PSC_UNROLL_STATE for (int k = 0; k < kKeyObjectCount; ++k) {
-            PSC_UNROLL for (int w = 0; w < kWords; ++w) key[at++] = e.restartTarget.obj[kKeyObjects[k]].w[w];
+            PSC_FOR_WORDS(w, kWords, key[at++] = e.restartTarget.obj[kKeyObjects[k]].w[w];);
         }
     }
     if (kMovementsCanLinger) {
@@ -104,11 +104,11 @@ PSC_DEVICE inline bool decodeKey(Env& e, const u64* key) {
     e.wins = 0;
     e.dormant = 0;
     PSC_UNROLL_STATE for (int k = 0; k < kKeyObjectCount; ++k) {
-        PSC_UNROLL for (int w = 0; w < kWords; ++w) {
+        PSC_FOR_WORDS(w, kWords,
             const u64 v = key[at++];
             e.obj[kKeyObjects[k]].w[w] = v;
             outside |= v & ~e.inside.w[w];
-        }
+        );
     }
     if (kHasCheckpoint) {
         for (int k = 0; k < kKeyObjectCount; ++k) {
