@@ -419,10 +419,16 @@ PSC_DEVICE PSC_INLINE void moveBit(Board& b, int from, int to) {
     if (held) b.set(to);
 }
 
-// The shifts keep their word loops (PSC_UNROLL): written out by the
-// preprocessor, NVVM left the stepping kernels of three- and four-word boards
-// 1-1.5 kB more stack (blocks, zenpuzzle, constellationz) for at most 0.1 s
-// less compile time.
+// The shifts' loops over words: on the GPU they stay loops (PSC_UNROLL) for
+// NVVM to unroll, as written out it left the stepping kernels of three- and
+// four-word boards 1-1.5 kB more stack (blocks, zenpuzzle, constellationz)
+// for at most 0.1 s less compile time; on the CPU they are written out like
+// the others (limerick 1.1x on one thread).
+#if defined(__CUDACC__)
+#define PSC_FOR_SHIFT_WORDS(i, n, ...) do { PSC_UNROLL for (int i = 0; i < (n); ++i) { __VA_ARGS__ } } while (0)
+#else
+#define PSC_FOR_SHIFT_WORDS PSC_FOR_WORDS
+#endif
 // Bit p of the result is bit p + n of b (cells n positions further on).
 PSC_DEVICE PSC_INLINE Board shiftDown(const Board& b, int n) {
     Board r;
@@ -432,11 +438,11 @@ PSC_DEVICE PSC_INLINE Board shiftDown(const Board& b, int n) {
     }
     const int words = n >> 6;
     const int bits = n & 63;
-    PSC_UNROLL for (int i = 0; i < kWords; ++i) {
+    PSC_FOR_SHIFT_WORDS(i, kWords,
         const u64 lo = i + words < kWords ? b.word(i + words) : 0;
         const u64 hi = i + words + 1 < kWords ? b.word(i + words + 1) : 0;
         r.w[i] = (lo >> bits) | (bits ? hi << (64 - bits) : 0);
-    }
+    );
     return r;
 }
 // Bit p of the result is bit p - n of b.
@@ -448,11 +454,11 @@ PSC_DEVICE PSC_INLINE Board shiftUp(const Board& b, int n) {
     }
     const int words = n >> 6;
     const int bits = n & 63;
-    PSC_UNROLL for (int i = 0; i < kWords; ++i) {
+    PSC_FOR_SHIFT_WORDS(i, kWords,
         const u64 hi = i - words >= 0 ? b.word(i - words) : 0;
         const u64 lo = i - words - 1 >= 0 ? b.word(i - words - 1) : 0;
         r.w[i] = (hi << bits) | (bits ? lo >> (64 - bits) : 0);
-    }
+    );
     return r;
 }
 // Cells d positions apart in a row of a rule, d = +-1 (vertical) or +-(H+1):
@@ -475,13 +481,13 @@ PSC_DEVICE PSC_INLINE Board shiftBySteps(const Board& b, int d) {
         Board r;
         const bool up = d < 0;
         const int bits = d & 63;  // up by n: the word below's top n bits, at 64 - n
-        PSC_UNROLL for (int i = 0; i < kWords; ++i) {
+        PSC_FOR_SHIFT_WORDS(i, kWords,
             const u64 below = i > 0 ? b.w[i - 1] : 0;
             const u64 above = i + 1 < kWords ? b.w[i + 1] : 0;
             const u64 lo = up ? below : b.w[i];
             const u64 hi = up ? b.w[i] : above;
             r.w[i] = (lo >> bits) | (bits ? hi << (64 - bits) : 0);
-        }
+        );
         return r;
     }
 }
