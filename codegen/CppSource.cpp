@@ -31,6 +31,13 @@ constexpr const char* kGeneratorVersion = "psc 0.1.0";
 // loops rolled on the GPU and their state in local memory: unrolled, code size
 // and NVRTC time grow with the level's area (a 5,000-cell level took minutes).
 constexpr int kMaxUnrolledBoardWords = 8;
+// The GPU's loops over a board's words are written out by the preprocessor
+// (templates/core.h's PSC_FOR_WORDS) in the registers layout over boards of
+// at most this many words: their stepping units compiled 14-22 % faster and
+// stepped as fast (one H100); over three- and four-word boards they stepped
+// 0.97-0.99x, in the groups layout 0.92x (kettle), in the memory layout 0.96x
+// (atlas), so those keep the loops that NVVM unrolls.
+constexpr int kMaxWrittenOutGpuWords = 2;
 
 // CUDA compile units: one per this many bytes of rule code, besides unit 0
 // (docs/performance.md measures the choice), and at most this many in all.
@@ -219,6 +226,8 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
         for (int k = 0; k < boardWords(g, o); ++k) steps += fmt::format(" PSC_WORD_STEP({}, n, i, __VA_ARGS__)", k);
         out.line("// A loop over a board's words written out, a step a word (PSC_FOR_WORDS, templates/core.h).");
         out.line("#define PSC_WORD_STEPS(n, i, ...)" + steps);
+        out.line(fmt::format("#define PSC_GPU_WORDS_WRITTEN_OUT {}  // on the GPU too: the registers layout over one- or two-word boards",
+                             gpu.inRegisters && boardWords(g, o) <= kMaxWrittenOutGpuWords ? 1 : 0));
     }
     if (o.target != "cpu") {
         out.line(fmt::format("#define PSC_COMPILE_UNITS {}  // programs NVRTC compiles at once (templates/core.h)",

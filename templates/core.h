@@ -202,9 +202,11 @@
 // generated code defines for its word count, codegen/CppSource.cpp): NVVM
 // then has no loop to unroll in each of the thousands of board operations a
 // stepping kernel inlines, which took a fifth of its compile time (slidings'
-// stepping unit, docs/performance.md).  The body may return; it may not
-// break or continue.
-#if PSC_UNROLL_BOARD_WORDS
+// stepping unit, docs/performance.md), and one CPU thread steps limerick's
+// five-word boards 2.6x as fast.  On the GPU only where the generated code
+// says so (PSC_GPU_WORDS_WRITTEN_OUT: elsewhere the kernels stepped slower).
+// The body may return; it may not break or continue.
+#if PSC_UNROLL_BOARD_WORDS && (!defined(__CUDACC__) || PSC_GPU_WORDS_WRITTEN_OUT)
 #define PSC_WORD_STEP(k, n, i, ...) \
     if constexpr ((k) < (n)) {      \
         constexpr int i = (k);      \
@@ -217,7 +219,7 @@
 // The loops over a rule's matched cells (PSC_FOR_VERTICAL, PSC_FOR_HORIZONTAL)
 // stay loops on the GPU: with the words written out they became innermost
 // loops, which NVVM unrolled into longer kernels.
-#if defined(__CUDACC__)
+#if defined(__CUDACC__) && PSC_UNROLL_BOARD_WORDS && PSC_GPU_WORDS_WRITTEN_OUT
 #define PSC_CELL_LOOP _Pragma("unroll 1")
 #else
 #define PSC_CELL_LOOP
