@@ -218,16 +218,17 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
         out.line(fmt::format("#define PSC_GROUP_SPANS {}  // a unit's groups of a phase run on one copy (templates/core.h)",
                              gpu.rules.spans ? 1 : 0));
     }
-    const bool unrolledWords = gpu.inRegisters || boardWords(g, o) <= kMaxUnrolledBoardWords;
+    const int words = boardWords(g, o);
+    const bool unrolledWords = gpu.inRegisters || words <= kMaxUnrolledBoardWords;
     out.line(fmt::format("#define PSC_UNROLL_BOARD_WORDS {}  // the GPU unrolls loops over objects, layers and words",
                          unrolledWords ? 1 : 0));
     if (unrolledWords) {
         std::string steps;
-        for (int k = 0; k < boardWords(g, o); ++k) steps += fmt::format(" PSC_WORD_STEP({}, n, i, __VA_ARGS__)", k);
+        for (int k = 0; k < words; ++k) steps += fmt::format(" PSC_WORD_STEP({}, n, i, __VA_ARGS__)", k);
         out.line("// A loop over a board's words written out, a step a word (PSC_FOR_WORDS, templates/core.h).");
         out.line("#define PSC_WORD_STEPS(n, i, ...)" + steps);
         out.line(fmt::format("#define PSC_GPU_WORDS_WRITTEN_OUT {}  // on the GPU too: the registers layout over one- or two-word boards",
-                             gpu.inRegisters && boardWords(g, o) <= kMaxWrittenOutGpuWords ? 1 : 0));
+                             gpu.inRegisters && words <= kMaxWrittenOutGpuWords ? 1 : 0));
     }
     if (o.target != "cpu") {
         out.line(fmt::format("#define PSC_COMPILE_UNITS {}  // programs NVRTC compiles at once (templates/core.h)",
@@ -250,7 +251,7 @@ void emitConstants(CodeWriter& out, const Game& g, const SourceOptions& o, const
     out.open("namespace psc_game");
     out.line(fmt::format("constexpr int kObjects = {};  // object ids, ghost ids included", std::max(1, g.objectCount)));
     out.line(fmt::format("constexpr int kLayers = {};", std::max(1, g.layerCount)));
-    out.line(fmt::format("constexpr int kWords = {};  // 64-bit words per bitboard (largest level built)", boardWords(g, o)));
+    out.line(fmt::format("constexpr int kWords = {};  // 64-bit words per bitboard (largest level built)", words));
     const auto [fixedWidth, fixedHeight] = fixedSize(g, o);
     out.line(fmt::format("constexpr int kFixedWidth = {};   // the width of every level built, or 0", fixedWidth));
     out.line(fmt::format("constexpr int kFixedHeight = {};  // the height of every level built, or 0", fixedHeight));

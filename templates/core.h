@@ -206,6 +206,7 @@
 // five-word boards 2.6x as fast.  On the GPU only where the generated code
 // says so (PSC_GPU_WORDS_WRITTEN_OUT: elsewhere the kernels stepped slower).
 // The body may return; it may not break or continue.
+#define PSC_WORD_LOOP(i, n, ...) do { PSC_UNROLL for (int i = 0; i < (n); ++i) { __VA_ARGS__ } } while (0)
 #if PSC_UNROLL_BOARD_WORDS && (!defined(__CUDACC__) || PSC_GPU_WORDS_WRITTEN_OUT)
 #define PSC_WORD_STEP(k, n, i, ...) \
     if constexpr ((k) < (n)) {      \
@@ -214,12 +215,12 @@
     }
 #define PSC_FOR_WORDS(i, n, ...) do { PSC_WORD_STEPS(n, i, __VA_ARGS__) } while (0)
 #else
-#define PSC_FOR_WORDS(i, n, ...) do { PSC_UNROLL for (int i = 0; i < (n); ++i) { __VA_ARGS__ } } while (0)
+#define PSC_FOR_WORDS PSC_WORD_LOOP
 #endif
 // The loops over a rule's matched cells (PSC_FOR_VERTICAL, PSC_FOR_HORIZONTAL)
 // stay loops on the GPU: with the words written out they became innermost
 // loops, which NVVM unrolled into longer kernels.
-#if defined(__CUDACC__) && PSC_UNROLL_BOARD_WORDS && PSC_GPU_WORDS_WRITTEN_OUT
+#if defined(__CUDACC__) && PSC_GPU_WORDS_WRITTEN_OUT
 #define PSC_CELL_LOOP _Pragma("unroll 1")
 #else
 #define PSC_CELL_LOOP
@@ -427,7 +428,7 @@ PSC_DEVICE PSC_INLINE void moveBit(Board& b, int from, int to) {
 // for at most 0.1 s less compile time; on the CPU they are written out like
 // the others (limerick 1.1x on one thread).
 #if defined(__CUDACC__)
-#define PSC_FOR_SHIFT_WORDS(i, n, ...) do { PSC_UNROLL for (int i = 0; i < (n); ++i) { __VA_ARGS__ } } while (0)
+#define PSC_FOR_SHIFT_WORDS PSC_WORD_LOOP
 #else
 #define PSC_FOR_SHIFT_WORDS PSC_FOR_WORDS
 #endif
