@@ -740,10 +740,10 @@ void emitRuleCalls(CodeWriter& out, const std::vector<RuleNames>& names) {
 }
 
 void emitGroupFunction(CodeWriter& out, const Game& g, const ir::RuleGroup& group, size_t index, bool late,
-                       const std::vector<RuleNames>& names, bool inPlace, bool rolledPasses = false) {
+                       const std::vector<RuleNames>& names, bool inPlace, bool layersExclusive, bool rolledPasses = false) {
     const std::string name = groupName(group, index, late);
     const std::string state = inPlace ? "PSC_GROUP_IN_PLACE(env, turn);" : "PSC_GROUP_WORKING_COPY(env, turn);";
-    if (!group.random && passesOnce(g, group)) {
+    if (!group.random && passesOnce(g, group, layersExclusive)) {
         out.line(fmt::format("// group {} (line {}): one pass over its rules, after which none can match (passesOnce)", index,
                              group.groupNumber));
         out.open("PSC_DEVICE PSC_GROUP bool " + name + "(Env& env, Turn& turn)");
@@ -919,12 +919,12 @@ void emitGroup(std::vector<Piece>& pieces, std::vector<bool>& inlined, int inden
             first = last;
         }
         CodeWriter code(indent);
-        emitGroupFunction(code, g, group, index, late, parts, true);
+        emitGroupFunction(code, g, group, index, late, parts, true, layersExclusive);
         add({code.text(), {groupDeclaration(name)}}, false);
         return;
     }
     CodeWriter code(indent);
-    emitGroupFunction(code, g, group, index, late, names, inPlace, layout.rolledPasses);
+    emitGroupFunction(code, g, group, index, late, names, inPlace, layersExclusive, layout.rolledPasses);
     Piece function{code.text(), {groupDeclaration(name)}};
     if (layout.apart) {
         for (auto& rule : rules) add(std::move(rule), false);

@@ -19,13 +19,12 @@ bool clearsWhatItRequires(const ir::CellPattern& cell, const ReplacementEffect& 
 
 }  // namespace
 
-bool passesOnce(const ir::Game& g, const ir::RuleGroup& group) {
+bool passesOnce(const ir::Game& g, const ir::RuleGroup& group, bool layersExclusive) {
     if (group.random) return false;
     const size_t objects = static_cast<size_t>(g.objectCount);
     const size_t movements = static_cast<size_t>(5 * g.layerCount);
     BitSet requiredObjects(objects), ruledOutObjects(objects), requiredMovements(movements), ruledOutMovements(movements);
     BitSet setObjects(objects), clearedObjects(objects), setMovements(movements), clearedMovements(movements);
-    const bool layersExclusive = layersHoldOneObject(g);
     for (const ir::Rule& rule : group.rules) {
         if (rule.rigid || rule.random) return false;
         bool writes = false;

@@ -22,6 +22,8 @@
 namespace psc::codegen {
 
 // Whether `group`'s second pass can match nothing after a first pass.
-bool passesOnce(const ir::Game& game, const ir::RuleGroup& group);
+// `layersExclusive`: layersHoldOneObject(game), which scans every rule of the
+// game, so its callers take it once a game, not once a group.
+bool passesOnce(const ir::Game& game, const ir::RuleGroup& group, bool layersExclusive);
 
 }  // namespace psc::codegen

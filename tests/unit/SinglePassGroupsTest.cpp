@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include "RuleParts.h"
 #include "SinglePassGroups.h"
 #include "TestGames.h"
 
@@ -17,7 +18,8 @@ std::vector<bool> passesOnceOf(const std::string& rules) {
     INFO(test::gameText(p));
     REQUIRE(r.status == CompileStatus::Ok);
     std::vector<bool> once;
-    for (const ir::RuleGroup& group : r.game->rules) once.push_back(codegen::passesOnce(*r.game, group));
+    const bool layersExclusive = codegen::layersHoldOneObject(*r.game);
+    for (const ir::RuleGroup& group : r.game->rules) once.push_back(codegen::passesOnce(*r.game, group, layersExclusive));
     return once;
 }
 
