@@ -5,7 +5,8 @@
 # image lacks, and the corpus cases to replay
 # (every testsuite trace and a spread sample of scraped traces), compressed.
 # INCLUDE_IDS (a file of case ids) adds those cases to the sample.
-# With FUZZ=1, also the fuzz targets of build-fuzz (stripped) and their seed
+# With FUZZ=1, also the fuzz targets of build-fuzz (stripped, and compressed:
+# a device call carries at most 64 MiB with the working tree) and their seed
 # games, for gpu_check.sh's fuzz stage.
 #   tools/device_bundle.sh [SCRAPED_SAMPLE]      (default 400)
 set -euo pipefail
@@ -37,8 +38,11 @@ PY
 tar -cJf device/corpus.tar.xz -C "$stage" .
 rm -rf "$stage"
 if [ "${FUZZ:-0}" = 1 ]; then
-    mkdir -p device/build-fuzz/fuzz
-    for target in build-fuzz/fuzz/psc-fuzz-*; do strip -o "device/$target" "$target"; done
+    targets=$(mktemp -d)
+    mkdir -p "$targets/build-fuzz/fuzz"
+    for target in build-fuzz/fuzz/psc-fuzz-*; do strip -o "$targets/$target" "$target"; done
+    tar -cJf device/build-fuzz.tar.xz -C "$targets" build-fuzz
+    rm -rf "$targets"
     seeds=$(mktemp -d)
     /usr/bin/python3 fuzz/seed_corpus.py "$corpus" "$seeds" > /dev/null
     tar -cJf device/fuzz-seeds.tar.xz -C "$seeds" .

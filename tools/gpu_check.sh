@@ -204,6 +204,7 @@ for stage in "$@"; do
             --out "$out/solve_cuda_${SOLVE_ALGORITHM:-portfolio}.jsonl"
         ;;
     fuzz)
+        [ -d device/build-fuzz ] || tar -xJf device/build-fuzz.tar.xz -C device
         seeds=/tmp/psc-fuzz-seeds
         mkdir -p $seeds && tar -xJf device/fuzz-seeds.tar.xz -C $seeds
         # The ABI target's plugins built once, not by each of its jobs.
