@@ -17,9 +17,10 @@ size_t defaultMemoryLimit() {
 
 }  // namespace
 
-SearchRun::SearchRun(StateSpace& s, const SolveOptions& options, double timeLimit, std::string stage)
+SearchRun::SearchRun(StateSpace& s, const SolveOptions& options, double timeLimit, std::string stage,
+                     StateStore::Keys keys)
     : space(s),
-      store(s.keyWords(), options.maxMemory ? options.maxMemory : defaultMemoryLimit()),
+      store(s.keyWords(), options.maxMemory ? options.maxMemory : defaultMemoryLimit(), keys),
       options_(options),
       stage_(std::move(stage)),
       timeLimit_(timeLimit),
@@ -95,15 +96,20 @@ void SearchRun::countExpansion(size_t count, double began) {
 
 void expandStored(SearchRun& run, const uint32_t* states, size_t count, ExpandBuffers& b, bool withEstimates) {
     const size_t words = run.space.keyWords();
-    const size_t inputs = run.space.inputs().size();
-    b.fit(count, words, inputs, withEstimates);
+    if (b.keys.size() < count * words) b.keys.resize(count * words);
     for (size_t i = 0; i < count; ++i) {
         const uint64_t* key = run.store.key(states[i]);
         std::copy(key, key + words, b.keys.begin() + static_cast<std::ptrdiff_t>(i * words));
     }
+    expandKeys(run, b.keys.data(), count, b, withEstimates);
+}
+
+void expandKeys(SearchRun& run, const uint64_t* keys, size_t count, ExpandBuffers& b, bool withEstimates) {
+    const size_t inputs = run.space.inputs().size();
+    b.fit(count, run.space.keyWords(), inputs, withEstimates);
     const double began = run.elapsed();
     run.space.setDeadline(run.timeLeft());
-    run.space.expand(b.keys.data(), count, b.children.data(), b.flags.data(), b.hashes.data(),
+    run.space.expand(keys, count, b.children.data(), b.flags.data(), b.hashes.data(),
                      withEstimates ? b.estimates.data() : nullptr);
     run.countExpansion(count, began);
     // Children the deadline left out: the time limit stops the search.
@@ -115,7 +121,6 @@ void expandStored(SearchRun& run, const uint32_t* states, size_t count, ExpandBu
 }
 
 void ExpandBuffers::fit(size_t count, size_t words, size_t inputs, bool withEstimates) {
-    if (keys.size() < count * words) keys.resize(count * words);
     if (children.size() < count * inputs * words) children.resize(count * inputs * words);
     if (flags.size() < count * inputs) flags.resize(count * inputs);
     if (hashes.size() < count * inputs) hashes.resize(count * inputs);

@@ -14,8 +14,10 @@ namespace psc::search {
 
 class SearchRun {
 public:
-    // `stage` names the search in progress lines ("bfs", "beam 4096").
-    SearchRun(StateSpace& space, const SolveOptions& options, double timeLimit, std::string stage);
+    // `stage` names the search in progress lines ("bfs", "beam 4096"); `keys`
+    // says whether the store keeps its states' keys (StateStore.h).
+    SearchRun(StateSpace& space, const SolveOptions& options, double timeLimit, std::string stage,
+              StateStore::Keys keys = StateStore::Keys::Kept);
 
     const SolveOptions& options() const { return options_; }
 
@@ -84,10 +86,13 @@ struct ExpandBuffers {
 // and those the expansion deadline left out (the time limit then stops the search).
 constexpr uint8_t kChildNotSearched = PSC_EXPAND_UNCHANGED | PSC_EXPAND_CUT_OFF | PSC_EXPAND_TIMED_OUT;
 
-// Expands stored states states[0..count) into b (their keys gathered first;
-// estimates too when asked) and counts them in run.result.
+// Expands the states of keys[0..count) into b (estimates too when asked) and
+// counts them in run.result.
+void expandKeys(SearchRun& run, const uint64_t* keys, size_t count, ExpandBuffers& b, bool withEstimates);
+// The same for stored states states[0..count), their keys gathered first.
 void expandStored(SearchRun& run, const uint32_t* states, size_t count, ExpandBuffers& b, bool withEstimates);
 
+// Its store need not keep keys (StateStore::Keys::Prints): it keeps its two layers' own.
 SolveResult breadthFirst(SearchRun& run);
 // Breadth-first with every state kept on the GPU (DeviceStateSet.h): CUDA spaces.
 SolveResult deviceBreadthFirst(SearchRun& run);

@@ -88,7 +88,9 @@ SolveResult beam(StateSpace& space, const SolveOptions& options, double timeLimi
 
 SolveResult runOne(StateSpace& space, const SolveOptions& options, Algorithm algorithm, double timeLimit) {
     if (algorithm == Algorithm::Beam) return beam(space, options, timeLimit);
-    SearchRun run(space, options, timeLimit, std::string(algorithmName(algorithm)));
+    const bool hostBreadthFirst = algorithm == Algorithm::BreadthFirst && space.backend() == Backend::Cpu;
+    SearchRun run(space, options, timeLimit, std::string(algorithmName(algorithm)),
+                  hostBreadthFirst ? StateStore::Keys::Prints : StateStore::Keys::Kept);
     switch (algorithm) {
         case Algorithm::BreadthFirst: return space.backend() == Backend::Cuda ? deviceBreadthFirst(run) : breadthFirst(run);
         case Algorithm::AStar: return bestFirst(run, 1, 1);

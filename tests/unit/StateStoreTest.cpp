@@ -53,3 +53,54 @@ TEST_CASE("state store: stops at its memory limit instead of growing", "[search]
     REQUIRE(store.bytes() <= size_t{4} << 20);
     REQUIRE(store.size() == i - 1);
 }
+
+TEST_CASE("state store of prints: keys past two words are known by their print, not kept", "[search]") {
+    StateStore store(5, size_t{64} << 20, StateStore::Keys::Prints);
+    REQUIRE_FALSE(store.keepsKeys());
+    const uint64_t a[5] = {1, 2, 3, 4, 5};
+    const uint64_t b[5] = {1, 2, 3, 4, 6};  // the same plugin hash below, another key
+    uint32_t ia = 0, ib = 0, again = 0;
+    REQUIRE(store.insert(a, 7, StateStore::kNoParent, 0, 0, &ia) == StateStore::Insert::Added);
+    REQUIRE(store.insert(b, 7, ia, 2, 1, &ib) == StateStore::Insert::Added);
+    REQUIRE(ia != ib);
+    REQUIRE(store.insert(b, 7, ia, 4, 1, &again) == StateStore::Insert::Known);
+    REQUIRE(again == ib);
+    REQUIRE(store.contains(a, 7));
+    const uint64_t c[5] = {1, 2, 3, 5, 4};  // a's words reordered
+    REQUIRE_FALSE(store.contains(c, 7));
+    REQUIRE(store.path(ib) == std::vector<int>{2});
+}
+
+TEST_CASE("state store of prints: a state costs the same whatever its key's size", "[search]") {
+    StateStore small(3, size_t{1} << 30, StateStore::Keys::Prints);
+    StateStore large(400, size_t{1} << 30, StateStore::Keys::Prints);
+    StateStore kept(400, size_t{1} << 30, StateStore::Keys::Kept);
+    std::vector<uint64_t> key(400, 0);
+    uint32_t index = 0;
+    for (uint64_t i = 0; i < 100000; ++i) {
+        key[0] = i;
+        const uint64_t hash = i * 0x9E3779B97F4A7C15ull;
+        REQUIRE(small.insert(key.data(), hash, 0, 0, 0, &index) == StateStore::Insert::Added);
+        REQUIRE(large.insert(key.data(), hash, 0, 0, 0, &index) == StateStore::Insert::Added);
+        REQUIRE(kept.insert(key.data(), hash, 0, 0, 0, &index) == StateStore::Insert::Added);
+    }
+    REQUIRE(large.bytes() == small.bytes());
+    REQUIRE(large.bytes() * 20 < kept.bytes());
+    key[0] = 99999;
+    REQUIRE(large.contains(key.data(), 99999 * 0x9E3779B97F4A7C15ull));
+}
+
+TEST_CASE("state store: memory the search holds beside it counts against its limit", "[search]") {
+    StateStore store(4, size_t{4} << 20, StateStore::Keys::Prints);
+    uint32_t index = 0;
+    const uint64_t first[4] = {1, 0, 0, 0};
+    REQUIRE(store.insert(first, 1, StateStore::kNoParent, 0, 0, &index) == StateStore::Insert::Added);
+    store.setOtherBytes(size_t{4} << 20);
+    uint64_t i = 2;
+    StateStore::Insert last = StateStore::Insert::Added;
+    for (; last == StateStore::Insert::Added && i < 1000000; ++i) {
+        const uint64_t key[4] = {i, 0, 0, 0};
+        last = store.insert(key, i * 0xBF58476D1CE4E5B9ull, 0, 0, 0, &index);
+    }
+    REQUIRE(last == StateStore::Insert::Full);
+}
