@@ -10,6 +10,8 @@
 // 370 bytes each with their keys, and the kernel's work to hand the store
 // fresh pages was a third of the search's time.
 #include <algorithm>
+#include <cstring>
+#include <memory>
 #include <new>
 #include <stdexcept>
 
@@ -18,33 +20,61 @@
 namespace psc::search {
 namespace {
 
-// The keys of one layer's states, in store order, grown within the run's memory limit.
+// The keys of one layer's states, in store order, in chunks that double in
+// size up to about 64 MB: a chunk is never copied (growing one vector of a
+// large layer's keys copied gigabytes at once, long past the time limit), and
+// a layer that is cleared keeps its chunks for the next layer.
 class LayerKeys {
 public:
-    explicit LayerKeys(size_t words) : words_(words) {}
-    const uint64_t* at(size_t i) const { return &keys_[i * words_]; }
-    size_t size() const { return keys_.size() / words_; }
-    size_t bytes() const { return keys_.capacity() * sizeof(uint64_t); }
-    void clear() { keys_.clear(); }
-    void swap(LayerKeys& other) { keys_.swap(other.keys_); }
-    // Appends a key unless growing would pass `room` more bytes (or fails); false then.
+    explicit LayerKeys(size_t words)
+        : words_(words), largestChunk_(std::max<size_t>(1, (size_t{64} << 20) / (words * sizeof(uint64_t)))) {}
+    size_t size() const { return size_; }
+    size_t bytes() const { return capacity() * words_ * sizeof(uint64_t); }
+    const uint64_t* at(size_t i) const {
+        const Chunk& c = chunkOf(i);
+        return &c.keys[(i - c.first) * words_];
+    }
+    // How many states from i on lie in one piece of memory.
+    size_t contiguousFrom(size_t i) const {
+        const Chunk& c = chunkOf(i);
+        return c.first + c.states - i;
+    }
+    void clear() { size_ = 0; }
+    void swap(LayerKeys& other) {
+        chunks_.swap(other.chunks_);
+        std::swap(size_, other.size_);
+    }
+    // Appends a key unless a new chunk would pass `room` more bytes (or cannot be had); false then.
     bool append(const uint64_t* key, size_t room) {
-        if (keys_.size() + words_ > keys_.capacity()) {
-            const size_t grown = std::max(keys_.capacity() + keys_.capacity() / 2, words_ * 1024);
-            if ((grown - keys_.capacity()) * sizeof(uint64_t) > room) return false;
-            try {
-                keys_.reserve(grown);
-            } catch (const std::bad_alloc&) {
-                return false;
-            }
+        if (size_ == capacity()) {
+            const size_t states = chunks_.empty() ? 1024 : std::min(2 * chunks_.back().states, largestChunk_);
+            if (states * words_ * sizeof(uint64_t) > room) return false;
+            std::unique_ptr<uint64_t[]> keys(new (std::nothrow) uint64_t[states * words_]);
+            if (!keys) return false;
+            chunks_.push_back(Chunk{std::move(keys), capacity(), states});
         }
-        keys_.insert(keys_.end(), key, key + words_);
+        std::memcpy(const_cast<uint64_t*>(at(size_)), key, words_ * sizeof(uint64_t));
+        ++size_;
         return true;
     }
 
 private:
+    struct Chunk {
+        std::unique_ptr<uint64_t[]> keys;
+        size_t first;   // the layer's index of its first key
+        size_t states;  // keys it holds
+    };
+    size_t capacity() const { return chunks_.empty() ? 0 : chunks_.back().first + chunks_.back().states; }
+    const Chunk& chunkOf(size_t i) const {
+        return *(std::upper_bound(chunks_.begin(), chunks_.end(), i,
+                                  [](size_t index, const Chunk& c) { return index < c.first; }) -
+                 1);
+    }
+
     size_t words_;
-    std::vector<uint64_t> keys_;
+    size_t largestChunk_;
+    size_t size_ = 0;
+    std::vector<Chunk> chunks_;
 };
 
 // Children whose table slots are loaded ahead of their insertion.
@@ -77,7 +107,7 @@ SolveResult breadthFirst(SearchRun& run) {
         const uint32_t nextFirst = static_cast<uint32_t>(store.size());
         for (size_t begin = 0, count = 0; begin < layer.size(); begin += count) {
             if (run.stopped()) return run.finish(Status::Limit);
-            count = run.batchWithinTime(std::min(space.maxBatch(), layer.size() - begin));
+            count = run.batchWithinTime(std::min({space.maxBatch(), layer.size() - begin, layer.contiguousFrom(begin)}));
             expandKeys(run, layer.at(begin), count, b, false);
             for (size_t c = 0; c < count * inputs; ++c) {
                 if (c + kPrefetchAhead < count * inputs) store.prefetch(b.hashes[c + kPrefetchAhead]);
