@@ -4,9 +4,10 @@
 // shortest solution.  A winning input counts even when it changes nothing
 // (a level whose win conditions already hold is won by any input).
 //
-// The store keeps prints, not keys (StateStore::Keys::Prints): the search
-// keeps the keys of the layer it expands and of the layer it builds, whose
-// states are consecutive in the store.  Limerick level 6's states took about
+// The store keeps prints, not keys (StateStore::Keys::Prints), where keys
+// are longer than four words: the search keeps the keys of the layer it
+// expands and of the layer it builds, whose states are consecutive in the
+// store.  Limerick level 6's states took about
 // 370 bytes each with their keys, and the kernel's work to hand the store
 // fresh pages was a third of the search's time.
 #include <algorithm>
@@ -90,6 +91,9 @@ SolveResult breadthFirst(SearchRun& run) {
     const uint32_t root = run.addRoot();
     if (space.rootWon()) return run.solved(root);
 
+    // Where the store keeps keys (of up to four words), a layer's keys are
+    // the store's own, consecutive within each of its blocks.
+    const bool ownKeys = !store.keepsKeys();
     LayerKeys layer(words);
     LayerKeys next(words);
     auto declareKeys = [&] { store.setOtherBytes(layer.bytes() + next.bytes()); };
@@ -98,17 +102,23 @@ SolveResult breadthFirst(SearchRun& run) {
         run.result.limit = "memory";
         return run.finish(Status::Limit);
     };
-    if (!layer.append(space.root().data(), room())) return outOfMemory();
+    if (ownKeys && !layer.append(space.root().data(), room())) return outOfMemory();
     declareKeys();
     uint32_t first = root;  // the layer's first state; its others follow it in the store
+    size_t layerSize = 1;
+    auto keyOf = [&](size_t i) { return ownKeys ? layer.at(i) : store.key(first + static_cast<uint32_t>(i)); };
+    auto contiguousFrom = [&](size_t i) {
+        return ownKeys ? layer.contiguousFrom(i) : store.contiguousFrom(first + static_cast<uint32_t>(i));
+    };
     ExpandBuffers b;
-    for (uint32_t depth = 0; layer.size() > 0; ++depth) {
+    for (uint32_t depth = 0; layerSize > 0; ++depth) {
         next.clear();
         const uint32_t nextFirst = static_cast<uint32_t>(store.size());
-        for (size_t begin = 0, count = 0; begin < layer.size(); begin += count) {
+        size_t nextSize = 0;
+        for (size_t begin = 0, count = 0; begin < layerSize; begin += count) {
             if (run.stopped()) return run.finish(Status::Limit);
-            count = run.batchWithinTime(std::min({space.maxBatch(), layer.size() - begin, layer.contiguousFrom(begin)}));
-            expandKeys(run, layer.at(begin), count, b, false);
+            count = run.batchWithinTime(std::min({space.maxBatch(), layerSize - begin, contiguousFrom(begin)}));
+            expandKeys(run, keyOf(begin), count, b, false);
             for (size_t c = 0; c < count * inputs; ++c) {
                 if (c + kPrefetchAhead < count * inputs) store.prefetch(b.hashes[c + kPrefetchAhead]);
                 const uint32_t parent = first + static_cast<uint32_t>(begin + c / inputs);
@@ -121,12 +131,15 @@ SolveResult breadthFirst(SearchRun& run) {
                     run.add(key, b.hashes[c], parent, static_cast<uint8_t>(c % inputs), depth + 1, &child);
                 if (r == StateStore::Insert::Full) return run.finish(Status::Limit);
                 if (r == StateStore::Insert::Known) continue;
+                ++nextSize;
+                if (!ownKeys) continue;
                 if (!next.append(key, room())) return outOfMemory();
                 declareKeys();
             }
             run.reportProgress(static_cast<int>(depth));
         }
         layer.swap(next);
+        layerSize = nextSize;
         first = nextFirst;
     }
     return run.exhausted();

@@ -40,7 +40,8 @@ uint64_t secondPrint(const uint64_t* key, size_t words) {
 StateStore::StateStore(size_t keyWords, size_t memoryLimit, Keys keys)
     : keyWords_(keyWords),
       memoryLimit_(memoryLimit),
-      keepKeys_(keys == Keys::Kept || keyWords <= 2),  // a key of two words is its own print
+      // A key of up to four words costs about what its print and a layer's copy of it would.
+      keepKeys_(keys == Keys::Kept || keyWords <= 4),
       storedWords_(keepKeys_ ? keyWords : 1) {
     blockBits_ = 16;
     while (blockBits_ > 8 && (size_t{1} << blockBits_) * stateBytes() > (size_t{64} << 20)) --blockBits_;

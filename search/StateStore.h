@@ -6,7 +6,7 @@
 // in fixed blocks (no reallocation doubling the footprint) and stops at a
 // memory limit instead of swapping.
 //
-// A store of prints (Keys::Prints) keeps no keys past two words: a state is
+// A store of prints (Keys::Prints) keeps no keys past four words: a state is
 // known by its 128-bit print, the plugin's 64-bit hash beside a second,
 // independent one (as the GPU's store's prints, state_set_kernels.cu), so two
 // states merge with a probability of about 2^-128 a pair.  A state
@@ -48,6 +48,8 @@ public:
     bool keepsKeys() const { return keepKeys_; }
     // The key of state i; only where keepsKeys().
     const uint64_t* key(uint32_t i) const { return stored(i); }
+    // How many states from i on have their keys in one piece of memory.
+    size_t contiguousFrom(uint32_t i) const { return size_t{blockMask_} + 1 - (i & blockMask_); }
     uint32_t parent(uint32_t i) const { return meta(i).parent; }
     uint8_t input(uint32_t i) const { return meta(i).input; }
     uint32_t depth(uint32_t i) const { return meta(i).depth; }

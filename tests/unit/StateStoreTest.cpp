@@ -54,7 +54,7 @@ TEST_CASE("state store: stops at its memory limit instead of growing", "[search]
     REQUIRE(store.size() == i - 1);
 }
 
-TEST_CASE("state store of prints: keys past two words are known by their print, not kept", "[search]") {
+TEST_CASE("state store of prints: keys past four words are known by their print, not kept", "[search]") {
     StateStore store(5, size_t{64} << 20, StateStore::Keys::Prints);
     REQUIRE_FALSE(store.keepsKeys());
     const uint64_t a[5] = {1, 2, 3, 4, 5};
@@ -72,7 +72,7 @@ TEST_CASE("state store of prints: keys past two words are known by their print, 
 }
 
 TEST_CASE("state store of prints: a state costs the same whatever its key's size", "[search]") {
-    StateStore small(3, size_t{1} << 30, StateStore::Keys::Prints);
+    StateStore small(5, size_t{1} << 30, StateStore::Keys::Prints);
     StateStore large(400, size_t{1} << 30, StateStore::Keys::Prints);
     StateStore kept(400, size_t{1} << 30, StateStore::Keys::Kept);
     std::vector<uint64_t> key(400, 0);
@@ -85,6 +85,7 @@ TEST_CASE("state store of prints: a state costs the same whatever its key's size
         REQUIRE(kept.insert(key.data(), hash, 0, 0, 0, &index) == StateStore::Insert::Added);
     }
     REQUIRE(large.bytes() == small.bytes());
+    REQUIRE(StateStore(4, size_t{1} << 20, StateStore::Keys::Prints).keepsKeys());  // short keys are kept
     REQUIRE(large.bytes() * 20 < kept.bytes());
     key[0] = 99999;
     REQUIRE(large.contains(key.data(), 99999 * 0x9E3779B97F4A7C15ull));
