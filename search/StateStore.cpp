@@ -46,7 +46,7 @@ StateStore::StateStore(size_t keyWords, size_t memoryLimit, Keys keys)
     blockBits_ = 16;
     while (blockBits_ > 8 && (size_t{1} << blockBits_) * stateBytes() > (size_t{64} << 20)) --blockBits_;
     blockMask_ = (1u << blockBits_) - 1;
-    slots_.assign(size_t{1} << 12, 0);
+    slots_.assign(size_t{1} << kFirstTableBits, 0);
 }
 
 size_t StateStore::bytes() const {
@@ -81,14 +81,21 @@ bool StateStore::growTable() {
     } catch (const std::bad_alloc&) {
         return false;
     }
+    // The old slots in order, their new homes (the hash's high bits, which
+    // the tag holds while the table has at most 2^32 slots) nearly in order
+    // too: a rehash of tens of millions of states by their metas' hashes,
+    // written at random, took seconds past a search's time limit.
+    const int shift = homeShift_ - 1;
     const size_t mask = size - 1;
-    for (size_t i = 0; i < count_; ++i) {
-        const uint64_t hash = meta(static_cast<uint32_t>(i)).hash;
-        size_t at = hash & mask;
+    for (const uint64_t slot : slots_) {
+        if (!slot) continue;
+        const uint64_t hash = shift >= 32 ? slot >> 32 << 32 : meta(indexOf(slot)).hash;
+        size_t at = hash >> shift;
         while (grown[at]) at = (at + 1) & mask;
-        grown[at] = slotOf(static_cast<uint32_t>(i), hash);
+        grown[at] = slot;
     }
     slots_.swap(grown);
+    homeShift_ = shift;
     return true;
 }
 
@@ -96,7 +103,7 @@ bool StateStore::growTable() {
 // kept), or the empty slot where its probe ends.
 size_t StateStore::probe(const uint64_t* key, uint64_t hash, uint64_t print) const {
     const size_t mask = slots_.size() - 1;
-    size_t at = hash & mask;
+    size_t at = homeOf(hash);
     for (; slots_[at]; at = (at + 1) & mask) {
         if ((slots_[at] >> 32) != (hash >> 32)) continue;  // the tag tells most states apart without their meta
         const uint32_t i = indexOf(slots_[at]);

@@ -38,7 +38,7 @@ public:
     bool contains(const uint64_t* key, uint64_t hash) const;
     // Starts loading the table slot where a probe for `hash` begins (a batch's
     // inserts otherwise wait on one cache miss after another).
-    void prefetch(uint64_t hash) const { __builtin_prefetch(&slots_[hash & (slots_.size() - 1)]); }
+    void prefetch(uint64_t hash) const { __builtin_prefetch(&slots_[homeOf(hash)]); }
 
     size_t size() const { return count_; }
     size_t bytes() const;  // memory held, tables and setOtherBytes' included
@@ -84,8 +84,12 @@ private:
     std::vector<std::unique_ptr<Meta[]>> metaBlocks_;
     // A state's index + 1 in the low half, its hash's high half in the high
     // one (a tag: a probe reads a state's meta only where the tags agree);
-    // 0 when empty; a power of two long.
+    // 0 when empty; a power of two long.  A state's home slot is its hash's
+    // high bits, so that the tags alone rehash the table when it grows.
+    static constexpr int kFirstTableBits = 12;
     std::vector<uint64_t> slots_;
+    int homeShift_ = 64 - kFirstTableBits;
+    size_t homeOf(uint64_t hash) const { return hash >> homeShift_; }
     static uint64_t slotOf(uint32_t i, uint64_t hash) { return (hash >> 32 << 32) | (uint64_t{i} + 1); }
     static uint32_t indexOf(uint64_t slot) { return static_cast<uint32_t>(slot) - 1; }
 };
