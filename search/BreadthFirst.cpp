@@ -118,6 +118,10 @@ SolveResult breadthFirst(SearchRun& run) {
         for (size_t begin = 0, count = 0; begin < layerSize; begin += count) {
             if (run.stopped()) return run.finish(Status::Limit);
             count = run.batchWithinTime(std::min({space.maxBatch(), layerSize - begin, contiguousFrom(begin)}));
+            if (store.growthSeconds(count * inputs) > run.timeLeft()) {
+                run.result.limit = "time";  // the table's growth would run past it
+                return run.finish(Status::Limit);
+            }
             expandKeys(run, keyOf(begin), count, b, false);
             for (size_t c = 0; c < count * inputs; ++c) {
                 if (c + kPrefetchAhead < count * inputs) store.prefetch(b.hashes[c + kPrefetchAhead]);

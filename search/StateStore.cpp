@@ -1,6 +1,7 @@
 #include "StateStore.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 
 namespace psc::search {
@@ -73,6 +74,7 @@ bool StateStore::reserveOne() {
 }
 
 bool StateStore::growTable() {
+    const auto began = std::chrono::steady_clock::now();
     const size_t size = slots_.size() * 2;
     if (bytes() + size * sizeof(uint64_t) > memoryLimit_) return false;
     std::vector<uint64_t> grown;
@@ -96,6 +98,8 @@ bool StateStore::growTable() {
     }
     slots_.swap(grown);
     homeShift_ = shift;
+    secondsPerGrownSlot_ =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count() / static_cast<double>(size);
     return true;
 }
 

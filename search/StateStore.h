@@ -36,6 +36,15 @@ public:
     Insert insert(const uint64_t* key, uint64_t hash, uint32_t parent, uint8_t input, uint32_t depth, uint32_t* index);
 
     bool contains(const uint64_t* key, uint64_t hash) const;
+    // About how long the table's growth would take if `more` states were
+    // added now (0 where they fit): twice the last growth's seconds a slot,
+    // since a larger table's fresh pages took up to that (zenpuzzle level 4
+    // on the development machine: 0.5 s to 2^26 slots, about 2 s to 2^27),
+    // which a search with less time left should not start.
+    double growthSeconds(size_t more) const {
+        return (count_ + more) * 2 > slots_.size() ? 2 * secondsPerGrownSlot_ * 2 * static_cast<double>(slots_.size())
+                                                   : 0;
+    }
     // Starts loading the table slot where a probe for `hash` begins (a batch's
     // inserts otherwise wait on one cache miss after another).
     void prefetch(uint64_t hash) const { __builtin_prefetch(&slots_[homeOf(hash)]); }
@@ -78,6 +87,7 @@ private:
     size_t memoryLimit_;
     bool keepKeys_;
     size_t otherBytes_ = 0;
+    double secondsPerGrownSlot_ = 0;
     size_t count_ = 0;
     size_t storedWords_;  // a state's words in wordBlocks_: its key, or its second print
     std::vector<std::unique_ptr<uint64_t[]>> wordBlocks_;

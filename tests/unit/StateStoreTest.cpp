@@ -105,3 +105,13 @@ TEST_CASE("state store: memory the search holds beside it counts against its lim
     }
     REQUIRE(last == StateStore::Insert::Full);
 }
+
+TEST_CASE("state store: says when its next states would grow its table, and about how long that takes", "[search]") {
+    StateStore store(1, size_t{64} << 20);
+    uint32_t index = 0;
+    for (uint64_t i = 0; i < 5000; ++i) {  // past the first table's 4,096 slots: one growth measured
+        REQUIRE(store.insert(&i, i * 0x9E3779B97F4A7C15ull, 0, 0, 0, &index) == StateStore::Insert::Added);
+    }
+    REQUIRE(store.growthSeconds(1) == 0);      // 8,192 slots hold 4,096 states
+    REQUIRE(store.growthSeconds(10000) > 0);  // these would double the table again
+}
