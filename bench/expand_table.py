@@ -20,7 +20,7 @@ def read(path):
     text = path.read_text()
     summary, rate = SUMMARY.search(text), RATE.search(text)
     if not summary or not rate:
-        return None
+        raise SystemExit(f"{path}: no expansion summary")
     level, inputs, key_bytes, batch = map(int, summary.groups())
     return {"level": level, "inputs": inputs, "key_bytes": key_bytes, "batch": batch, "rate": int(rate.group(1))}
 
@@ -33,18 +33,16 @@ def main():
     rows = []
     for path in sorted(a.gpu.glob("*.L*.txt")):
         gpu = read(path)
-        if gpu is None:
-            raise SystemExit(f"{path}: no expansion summary")
-        cpu = read(a.cpu / path.name) if a.cpu and (a.cpu / path.name).exists() else None
+        cpu_path = a.cpu / path.name if a.cpu else None
+        cpu = read(cpu_path) if cpu_path and cpu_path.exists() else None
         rows.append((path.name.split(".L")[0], gpu, cpu))
     rows.sort(key=lambda row: -row[1]["rate"])
     print("| game (level 0) | key bytes | inputs | children/s, GPU | best batch | children/s, CPU |")
     print("|---|---:|---:|---:|---:|---:|")
     for game, gpu, cpu in rows:
         name = game if gpu["level"] == 0 else f"{game} level {gpu['level']}"
-        print(f"| {name} | {gpu['key_bytes']} | {gpu['inputs']} | {gpu['rate']:,} | {gpu['batch']:,} | "
-              f"{cpu['rate']:,} |" if cpu else
-              f"| {name} | {gpu['key_bytes']} | {gpu['inputs']} | {gpu['rate']:,} | {gpu['batch']:,} | |")
+        cpu_rate = f"{cpu['rate']:,}" if cpu else ""
+        print(f"| {name} | {gpu['key_bytes']} | {gpu['inputs']} | {gpu['rate']:,} | {gpu['batch']:,} | {cpu_rate} |")
 
 
 if __name__ == "__main__":

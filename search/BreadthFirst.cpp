@@ -7,9 +7,9 @@
 // The store keeps prints, not keys (StateStore::Keys::Prints), where keys
 // are longer than four words: the search keeps the keys of the layer it
 // expands and of the layer it builds, whose states are consecutive in the
-// store.  Limerick level 6's states took about
-// 370 bytes each with their keys, and the kernel's work to hand the store
-// fresh pages was a third of the search's time.
+// store.  Limerick level 6's states took about 370 bytes each with their
+// keys, and the kernel's work to hand the store fresh pages was a third of
+// the search's time.
 #include <algorithm>
 #include <cstring>
 #include <memory>
@@ -31,10 +31,7 @@ public:
         : words_(words), largestChunk_(std::max<size_t>(1, (size_t{64} << 20) / (words * sizeof(uint64_t)))) {}
     size_t size() const { return size_; }
     size_t bytes() const { return capacity() * words_ * sizeof(uint64_t); }
-    const uint64_t* at(size_t i) const {
-        const Chunk& c = chunkOf(i);
-        return &c.keys[(i - c.first) * words_];
-    }
+    const uint64_t* at(size_t i) const { return address(i); }
     // How many states from i on lie in one piece of memory.
     size_t contiguousFrom(size_t i) const {
         const Chunk& c = chunkOf(i);
@@ -54,7 +51,7 @@ public:
             if (!keys) return false;
             chunks_.push_back(Chunk{std::move(keys), capacity(), states});
         }
-        std::memcpy(const_cast<uint64_t*>(at(size_)), key, words_ * sizeof(uint64_t));
+        std::memcpy(address(size_), key, words_ * sizeof(uint64_t));
         ++size_;
         return true;
     }
@@ -65,6 +62,10 @@ private:
         size_t first;   // the layer's index of its first key
         size_t states;  // keys it holds
     };
+    uint64_t* address(size_t i) const {
+        const Chunk& c = chunkOf(i);
+        return &c.keys[(i - c.first) * words_];
+    }
     size_t capacity() const { return chunks_.empty() ? 0 : chunks_.back().first + chunks_.back().states; }
     const Chunk& chunkOf(size_t i) const {
         return *(std::upper_bound(chunks_.begin(), chunks_.end(), i,
