@@ -107,8 +107,9 @@ std::string buildTimes(const BuildResult& built) {
 }  // namespace
 
 std::string deviceCodeKey(const std::string& cudaSource, const GameBuildOptions& options) {
-    return sha1Hex(fmt::format("{}\n{}\n{}\n{}\n{}", options.cuda.compiler, options.cuda.architecture, options.cuda.fastCompile,
-                               fmt::join(options.cuda.extraOptions, " "), cudaSource));
+    const std::string fixed = options.cuda.compiler == "nvrtc" ? fmt::format("{}", fmt::join(nvrtcFixedOptions(), " ")) : "";
+    return sha1Hex(fmt::format("{}\n{}\n{}\n{}\n{}\n{}", options.cuda.compiler, fixed, options.cuda.architecture,
+                               options.cuda.fastCompile, fmt::join(options.cuda.extraOptions, " "), cudaSource));
 }
 
 namespace {

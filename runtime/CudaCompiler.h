@@ -16,6 +16,16 @@ namespace psc {
 // $PSC_NVRTC_OPTIONS split at spaces (empty when unset).
 std::vector<std::string> compilerOptionsFromEnvironment();
 
+// NVRTC's options in every build, before the caller's and the architecture's
+// (runtime/NvrtcModule.cpp), and part of the device code's cache key, so
+// that a psc that changes them does not take another's cubins from the cache.
+// -minimal: the generated code declares what it uses, so NVRTC's front end
+// skips the CUDA runtime's declarations (the same PTX, a few per cent of
+// NVRTC's time; docs/performance.md, "The whole build, cold").
+inline std::vector<std::string> nvrtcFixedOptions() {
+    return {"-std=c++17", "-default-device", "-minimal", "-Xptxas=-v", "-DPSC_CUDA=1"};
+}
+
 struct CudaCompileOptions {
     std::string compiler = "nvrtc";  // nvrtc | nvcc
     int architecture = 90;           // sm_90 (H100); PTX for compute_<architecture>

@@ -19,7 +19,7 @@ namespace psc {
 namespace {
 
 std::vector<std::string> commonOptions(const CudaCompileOptions& options) {
-    std::vector<std::string> o = {"-std=c++17", "-default-device", "-Xptxas=-v", "-DPSC_CUDA=1"};
+    std::vector<std::string> o = nvrtcFixedOptions();
     if (options.fastCompile != "0") o.push_back("-Ofc=" + options.fastCompile);
     o.insert(o.end(), options.extraOptions.begin(), options.extraOptions.end());
     return o;

@@ -37,7 +37,12 @@ TEST_CASE("NVRTC compiles a kernel to a cubin and PTX in one run", "[cuda]") {
     CHECK_FALSE(r.cubin.empty());
     REQUIRE(r.ptx.size() == 1);
     CHECK(r.ptx[0].find(".entry k") != std::string::npos);
-    CHECK(r.options.size() == 5);  // each option once
+    // The fixed options and the architecture, each once (extraOptions are
+    // $PSC_NVRTC_OPTIONS's, empty in the tests).
+    const std::vector<std::string> fixed = nvrtcFixedOptions();
+    REQUIRE(r.options.size() == fixed.size() + 1);
+    CHECK(std::equal(fixed.begin(), fixed.end(), r.options.begin()));
+    CHECK(r.options.back() == "--gpu-architecture=sm_90");
     CHECK(r.units == 1);
 }
 
