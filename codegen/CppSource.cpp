@@ -853,6 +853,11 @@ GpuCode gpuCode(const ir::Game& game, const SourceOptions& options, const RuleFo
                                        [&](size_t bytes) { return bytes * static_cast<size_t>(words) > kRegisterCodeBudget; });
         gpu.rules.spans = apartUnits == 0 && !large && !usesRandom(game) && !game.hasRigid && game.loopPoints.empty() &&
                           game.lateLoopPoints.empty();
+        if (gpu.rules.spans && gpu.rules.groupUnits > groups) {
+            // A span's unit holds whole groups: no more units than groups.
+            gpu.rules.groupUnits = groups;
+            gpu.units = 1 + gpu.rules.groupUnits + rest;
+        }
     } else {
         // The memory layout inlines a group's rules into it (templates/core.h)
         // up to kInlinedGroupWeight; a larger group, or one over boards too

@@ -1047,13 +1047,24 @@ void emitRuleSpans(CodeWriter& out, const Game& game, const RuleUnits& layout, c
             total += weight;
         }
     }
-    // A group goes to the unit its weight's midpoint falls in: runs of consecutive groups, balanced by weight.
+    // A group goes to the unit its weight's midpoint falls in: runs of
+    // consecutive groups, balanced by weight.  No unit is skipped, and each
+    // group leaves enough after it for the units after its own, so that no
+    // unit is empty where there are as many groups as units (gpuCode,
+    // codegen/CppSource.cpp, sees to that):
+    // an empty unit costs NVRTC a compile, and, with no symbol of its own,
+    // gets internal names that differ from build to build.
     const int units = std::max(layout.groupUnits, 1);
+    const int count = static_cast<int>(placed.size());
     std::vector<Span> spans;
     size_t before = 0;
-    for (auto& p : placed) {
+    int previous = 0;
+    for (int g = 0; g < count; ++g) {
+        Placed& p = placed[static_cast<size_t>(g)];
         const double middle = (static_cast<double>(before) + static_cast<double>(p.weight) / 2) / static_cast<double>(std::max<size_t>(total, 1));
-        p.unit = 1 + std::min(units - 1, static_cast<int>(middle * units));
+        const int byWeight = 1 + std::min(units - 1, static_cast<int>(middle * units));
+        p.unit = std::min(previous + 1, std::max(byWeight, units - (count - g) + 1));
+        previous = p.unit;
         before += p.weight;
         if (spans.empty() || spans.back().unit != p.unit || spans.back().late != p.late) {
             spans.push_back({fmt::format("{}_rules_unit{}", p.late ? "late" : "early", p.unit), p.late, p.unit, {}});

@@ -131,7 +131,8 @@ bool nvrtcCompile(const std::string& source, const std::string& name, const Cuda
         for (int k; (k = next++) < units;) {
             std::vector<std::string> unitOptions = r.options;
             if (units > 1) unitOptions.push_back(fmt::format("-DPSC_UNIT={}", k));
-            outputs[static_cast<size_t>(k)] = nvrtcProgramOutput(source, name, unitOptions, options.syntaxOnly);
+            const std::string unitName = units > 1 ? fmt::format("{}_unit{}", name, k) : name;
+            outputs[static_cast<size_t>(k)] = nvrtcProgramOutput(source, unitName, unitOptions, options.syntaxOnly);
         }
     };
     const int workers = std::max(1, std::min<int>(units, static_cast<int>(std::thread::hardware_concurrency())));

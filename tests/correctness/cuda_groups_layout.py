@@ -8,6 +8,7 @@ registers.  For each game:
   group's pass over its parts) are not on a copy;
 - a group larger than the part budget passes over parts of its rules, and the
   parts call the rules in the order the memory layout's group calls them;
+- no unit of 1..PSC_GROUP_UNITS is empty;
 - NVRTC compiles and links every unit, and no group on a copy keeps a frame
   in local memory (the copy stayed in registers);
 - with spans (PSC_GROUP_SPANS: no loops, rigid bodies or groups apart), each
@@ -150,6 +151,9 @@ def check(psc, game, failures, expect_parts=False):
         failures.append(f"{name}: not built in the groups layout ({copy_units} copy units)")
         return
     units = units_of(source)
+    empty = [k for k in range(1, copy_units + 1) if not units.get(k, "").strip()]
+    if empty:
+        failures.append(f"{name}: compile units {empty} of 1..{copy_units} hold no code")
     on_copy, split = [], {}
     uses_spans = "#define PSC_GROUP_SPANS 1" in source
     if uses_spans:
@@ -199,6 +203,14 @@ def check(psc, game, failures, expect_parts=False):
     return on_copy
 
 
+# Two small groups, then one of eleven rules, whose weight's midpoint lies past
+# the second of four units: placed by that alone, unit 2 was left empty.
+HEAVY_LAST = "\n".join(
+    ["[ Player | Crate | Crate | Crate ] -> [ Player | Crate | Crate | Crate ]",
+     "[ Crate | Player | Crate | Crate ] -> [ Crate | Player | Crate | Crate ]",
+     "[ > Player | Crate ] -> [ > Player | > Crate ]"] +
+    [f"+ [ > Player | Crate | {'| ' * k}Crate ] -> [ > Player | > Crate | {'| ' * k}Crate ]" for k in range(10)])
+
 LARGE_GROUP = "\n".join(
     ["[ > Player | Crate ] -> [ > Player | > Crate ]"] +
     [f"+ [ > Player | Crate | {'| ' * k}Crate ] -> [ > Player | > Crate | {'| ' * k}Crate ]" for k in range(12)])
@@ -232,6 +244,11 @@ def main():
             spans = check(a.psc, many, failures)
             if len(failures) == before and len(set(re.findall(r"_rules_unit(\d+)", " ".join(spans or [])))) < 2:
                 failures.append(f"{os.path.basename(many)}: spans in fewer than two units: {spans}")
+            heavy = with_rules(a.large_group, tmp, HEAVY_LAST, "heavy_last_")
+            before = len(failures)
+            spans = check(a.psc, heavy, failures)
+            if len(failures) == before and len(set(re.findall(r"_rules_unit(\d+)", " ".join(spans or [])))) < 4:
+                failures.append(f"{os.path.basename(heavy)}: spans in fewer than four units: {spans}")
     for f in failures:
         print("FAIL", f)
     sys.exit(1 if failures else 0)
