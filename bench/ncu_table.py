@@ -2,9 +2,11 @@
 """The Nsight Compute table of docs/performance.md from `tools/gpu_check.sh
 profile`'s CSVs (one per benchmark game: ncu's metrics of one launch of the
 stepping kernel, psc_run_kernel, over BATCH environments and STEPS steps).
-Per environment-step figures divide by BATCH x STEPS.
+Per environment-step figures divide by BATCH x STEPS.  With --kernel
+psc_expand_kernel, the CSVs of `tools/gpu_check.sh expandprofile` (one
+launch of search's expansion, BATCH children, STEPS 1): figures a child.
 
-    bench/ncu_table.py FOLDER [--batch 131072] [--steps 8]
+    bench/ncu_table.py FOLDER [--batch 131072] [--steps 8] [--kernel psc_run_kernel]
 """
 import argparse
 import csv
@@ -12,13 +14,13 @@ import glob
 import os
 
 
-def read_metrics(path):
+def read_metrics(path, kernel):
     """Metric name -> value (float, units as ncu's --print-units base gives them)."""
     rows = []
     with open(path, errors="replace") as f:
         lines = [line for line in f if line.startswith('"')]  # psc bench's own lines are not CSV
     for row in csv.DictReader(lines):
-        if "psc_run_kernel" in row.get("Kernel Name", ""):
+        if kernel in row.get("Kernel Name", ""):
             rows.append(row)
     values = {}
     for row in rows:
@@ -35,15 +37,17 @@ def main():
     parser.add_argument("folder")
     parser.add_argument("--batch", type=int, default=131072)
     parser.add_argument("--steps", type=int, default=8)
+    parser.add_argument("--kernel", default="psc_run_kernel")
     args = parser.parse_args()
     env_steps = args.batch * args.steps
-    print("| game | registers a thread | occupancy: achieved (theoretical) | issue slots busy | threads active a warp instruction (of 32) "
-          "| branch uniformity | thread instructions an env-step | local memory bytes an env-step | DRAM bytes an env-step "
-          "| kernel ns an env-step |")
+    unit = "a child" if args.kernel == "psc_expand_kernel" else "an env-step"
+    print(f"| game | registers a thread | occupancy: achieved (theoretical) | issue slots busy | threads active a warp instruction (of 32) "
+          f"| branch uniformity | thread instructions {unit} | local memory bytes {unit} | DRAM bytes {unit} "
+          f"| kernel ns {unit} |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for path in sorted(glob.glob(os.path.join(args.folder, "*.csv"))):
         name = os.path.basename(path)[: -len(".csv")]
-        m = read_metrics(path)
+        m = read_metrics(path, args.kernel)
         if "gpu__time_duration.sum" not in m:
             print(f"| {name} | no metrics (see {name}.err) | | | | | | | | |")
             continue

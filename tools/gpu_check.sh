@@ -36,6 +36,9 @@
 #   profile   Nsight Compute on each benchmark game's stepping kernel (PROFILE_BATCH environments, default 131072,
 #             8 steps a launch, level 0; PROFILE_GAMES names some): one CSV per game in profile.tar.gz, with the
 #             warp state section's summary (cycles a warp waits an instruction); bench/ncu_table.py makes the table
+#   expandprofile Nsight Compute on search's expansion kernel (psc_expand_kernel) for each of EXPAND_PROFILE_LEVELS
+#             (game:level, default sokoban:0 atlas:0 atlas:9 atlas:10), EXPAND_PROFILE_STATES states a launch (default
+#             16384): expandprofile.tar.gz; bench/ncu_table.py --kernel psc_expand_kernel --batch CHILDREN --steps 1
 #   divergence Nsight Compute's source counters of the stepping kernel, SASS instruction by instruction, for each of
 #             DIVERGENCE_GAMES (default all), as profile launches it (built with -lineinfo): divergence.tar.gz;
 #             bench/ncu_divergence.py makes the table; GAME_lines.csv has each SASS instruction under the line of
@@ -268,6 +271,27 @@ for stage in "$@"; do
             echo "$name: ncu exit $?, $(grep -c psc_run_kernel "$out/profile/$name.csv") metric rows"
         done
         tar -czf "$out/profile.tar.gz" -C "$out" profile && rm -rf "$out/profile"
+        ;;
+    expandprofile)
+        # As profile, for the expansion kernel: its second launch, after the bench's first (timing) call.
+        mkdir -p "$out/expandprofile"
+        metrics=gpu__time_duration.sum,launch__registers_per_thread,launch__grid_size,launch__block_size
+        metrics+=,sm__warps_active.avg.pct_of_peak_sustained_active,sm__maximum_warps_per_active_cycle_pct
+        metrics+=,smsp__issue_active.avg.pct_of_peak_sustained_active,smsp__inst_executed.sum,smsp__thread_inst_executed.sum
+        metrics+=,smsp__sass_average_branch_targets_threads_uniform.pct,smsp__thread_inst_executed_per_inst_executed.ratio
+        metrics+=,l1tex__t_bytes_pipe_lsu_mem_local_op_ld.sum,l1tex__t_bytes_pipe_lsu_mem_local_op_st.sum,dram__bytes.sum
+        metrics+=,launch__stack_size,sm__warps_launched.sum
+        for spec in ${EXPAND_PROFILE_LEVELS:-sokoban:0 atlas:0 atlas:9 atlas:10}; do
+            name=${spec%:*}
+            level=${spec#*:}
+            timeout 300 ncu --clock-control none --kernel-name psc_expand_kernel --launch-skip 1 --launch-count 1 \
+                --metrics "$metrics" --section WarpStateStats --csv --print-units base \
+                "$psc" bench "bench/games/$name.txt" --expand --level "$level" --backend cuda \
+                --batch "${EXPAND_PROFILE_STATES:-16384}" --repeats 1 --warmup 0 "${fast[@]}" \
+                > "$out/expandprofile/$name.L$level.csv" 2> "$out/expandprofile/$name.L$level.err"
+            echo "$name level $level: ncu exit $?, $(grep -c psc_expand_kernel "$out/expandprofile/$name.L$level.csv") metric rows"
+        done
+        tar -czf "$out/expandprofile.tar.gz" -C "$out" expandprofile && rm -rf "$out/expandprofile"
         ;;
     divergence)
         mkdir -p "$out/divergence"
