@@ -225,8 +225,12 @@ PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child,
     const bool settled = applyInput(e, none, input);
     encodeKey(e, child);
     foldKey(child);
-    bool same = true;
-    PSC_UNROLL_STATE for (int k = 0; k < kKeyWords; ++k) same = same && child[k] == parent[k];
+    // The words' differences or-ed, not a chain of && (a test and a branch a
+    // word, 6 % of limerick's breadth-first search on the CPU): one pass the
+    // compiler vectorizes.
+    u64 differences = 0;
+    PSC_UNROLL_STATE for (int k = 0; k < kKeyWords; ++k) differences |= child[k] ^ parent[k];
+    const bool same = differences == 0;
     if (!settled && deadlinePassed(deadline)) return kExpandTimedOut;
     return static_cast<u8>((e.wins > 0 ? kExpandWon : 0) | (same ? kExpandUnchanged : 0) | (settled ? 0 : kExpandCutOff));
 }
