@@ -209,10 +209,10 @@ constexpr bool kExpandTooLarge = !PSC_STATE_IN_REGISTERS && sizeof(Env) > 128 * 
 // when the input wins it.  With a deadline (on deadlineClock; 0: none), a
 // child not started by then, or whose again chain it cut short, is no child:
 // kExpandTimedOut, `child` unwritten or not one.  On the host, psc_expand
-// tests whether to start a child, once every few children
-// (runtime/plugin_host/PluginAbi.cpp): a read of the host's clock cost as much
-// as a twentieth of a child.  A parent that is no state of the level
-// (decodeKey) is kExpandInvalid, `child` unwritten.
+// tests whether to start a child (DeadlineWatch,
+// runtime/plugin_host/ExpandDeadline.h: a read of the host's clock cost as
+// much as a twentieth of a small child).  A parent that is no state of the
+// level (decodeKey) is kExpandInvalid, `child` unwritten.
 PSC_DEVICE inline u8 expandKey(Env& e, const u64* parent, int input, u64* child, unsigned long long deadline) {
 #if defined(__CUDA_ARCH__)
     if (deadlinePassed(deadline)) return kExpandTimedOut;

@@ -34,11 +34,6 @@ struct StateHeader {
 // The last character counts the environment's layouts: a state saved by a plugin of another layout is refused.
 constexpr char kStateMagic[8] = {'p', 's', 'c', 's', 't', 'a', 't', '3'};
 
-// psc_expand on the CPU reads the clock for its deadline once this many
-// children: a read (clock_gettime) took about 5 % of limerick's breadth-first
-// search when made for every child.
-constexpr int kChildrenADeadlineTest = 16;
-
 uint64_t fnv1a(const char* bytes, size_t size) {
     uint64_t h = 0xcbf29ce484222325ull;
     for (size_t i = 0; i < size; ++i) h = (h ^ static_cast<unsigned char>(bytes[i])) * 0x100000001b3ull;
@@ -599,12 +594,9 @@ PSC_API int psc_expand(psc_batch* batch, int32_t template_env, const void* keys,
     const int64_t deadline = batch->expandDeadline;
     batch->pool->run(static_cast<int>(pairs), [&](int begin, int end) {
         EnvBuffer e(g.envBytes);
-        bool late = false;
+        DeadlineWatch watch(deadline);
         for (int at = begin; at < end; ++at) {
-            // A child not started by the deadline is none (expandKey); the
-            // clock is read once every kChildrenADeadlineTest children.
-            if (deadline && (at - begin) % kChildrenADeadlineTest == 0) late = steadyNanoseconds() >= deadline;
-            if (late) {
+            if (watch.passed()) {  // a child not started by the deadline is none (expandKey)
                 flags[at] = PSC_EXPAND_TIMED_OUT;
                 if (hashes) hashes[at] = 0;
                 if (estimates) estimates[at] = 0;
