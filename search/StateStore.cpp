@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <utility>
 
 namespace psc::search {
 
@@ -47,7 +48,7 @@ StateStore::StateStore(size_t keyWords, size_t memoryLimit, Keys keys)
     blockBits_ = 16;
     while (blockBits_ > 8 && (size_t{1} << blockBits_) * stateBytes() > (size_t{64} << 20)) --blockBits_;
     blockMask_ = (1u << blockBits_) - 1;
-    slots_.assign(size_t{1} << kFirstTableBits, 0);
+    slots_ = SlotArray(size_t{1} << kFirstTableBits);
 }
 
 size_t StateStore::bytes() const {
@@ -77,9 +78,9 @@ bool StateStore::growTable() {
     const auto began = std::chrono::steady_clock::now();
     const size_t size = slots_.size() * 2;
     if (bytes() + size * sizeof(uint64_t) > memoryLimit_) return false;
-    std::vector<uint64_t> grown;
+    SlotArray grown;
     try {
-        grown.assign(size, 0);
+        grown = SlotArray(size);
     } catch (const std::bad_alloc&) {
         return false;
     }
@@ -96,7 +97,7 @@ bool StateStore::growTable() {
         while (grown[at]) at = (at + 1) & mask;
         grown[at] = slot;
     }
-    slots_.swap(grown);
+    slots_ = std::move(grown);
     homeShift_ = shift;
     secondsPerGrownSlot_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count() / static_cast<double>(size);

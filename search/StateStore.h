@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "SlotArray.h"
+
 namespace psc::search {
 
 class StateStore {
@@ -97,7 +99,7 @@ private:
     // 0 when empty; a power of two long.  A state's home slot is its hash's
     // high bits, so that the tags alone rehash the table when it grows.
     static constexpr int kFirstTableBits = 12;
-    std::vector<uint64_t> slots_;
+    SlotArray slots_;
     int homeShift_ = 64 - kFirstTableBits;
     size_t homeOf(uint64_t hash) const { return hash >> homeShift_; }
     static uint64_t slotOf(uint32_t i, uint64_t hash) { return (hash >> 32 << 32) | (uint64_t{i} + 1); }
