@@ -1050,10 +1050,10 @@ void emitRuleSpans(CodeWriter& out, const Game& game, const RuleUnits& layout, c
     // A group goes to the unit its weight's midpoint falls in: runs of
     // consecutive groups, balanced by weight.  No unit is skipped, and each
     // group leaves enough after it for the units after its own, so that no
-    // unit is empty where there are as many groups as units (gpuCode,
-    // codegen/CppSource.cpp, sees to that):
-    // an empty unit costs NVRTC a compile, and, with no symbol of its own,
-    // gets internal names that differ from build to build.
+    // unit is empty where there are as many groups as units (as gpuCode,
+    // codegen/CppSource.cpp, sees to): an empty unit costs NVRTC a compile,
+    // and, with no symbol of its own, gets internal names that differ from
+    // build to build.
     const int units = std::max(layout.groupUnits, 1);
     const int count = static_cast<int>(placed.size());
     std::vector<Span> spans;
