@@ -27,9 +27,10 @@ public:
     const uint64_t* end() const { return data_ + count_; }
 
 private:
+    size_t bytes() const { return count_ * sizeof(uint64_t); }
+
     uint64_t* data_ = nullptr;
     size_t count_ = 0;
-    size_t bytes_ = 0;
 };
 
 }  // namespace psc::search

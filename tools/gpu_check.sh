@@ -66,6 +66,20 @@ if [ -f device/cache.tar.xz ] && [ ! -d "$XDG_CACHE_HOME/psc" ]; then
     mkdir -p "$XDG_CACHE_HOME" && tar -xJf device/cache.tar.xz -C "$XDG_CACHE_HOME"
 fi
 psc=${PSC:-$PWD/device/bin/psc}
+# Nsight Compute's metrics of kernel $1's second launch (the first warms up), the clocks as they are
+# (METHOD.md), as CSV on stdout, for the command that follows: the profile and expandprofile stages.
+ncu_metrics() {
+    local kernel=$1
+    shift
+    local metrics=gpu__time_duration.sum,launch__registers_per_thread,launch__grid_size,launch__block_size,launch__stack_size
+    metrics+=,sm__warps_active.avg.pct_of_peak_sustained_active,sm__maximum_warps_per_active_cycle_pct,sm__warps_launched.sum
+    metrics+=,smsp__issue_active.avg.pct_of_peak_sustained_active,smsp__inst_executed.sum,smsp__thread_inst_executed.sum
+    metrics+=,smsp__sass_average_branch_targets_threads_uniform.pct,smsp__thread_inst_executed_per_inst_executed.ratio
+    metrics+=,l1tex__t_bytes_pipe_lsu_mem_local_op_ld.sum,l1tex__t_bytes_pipe_lsu_mem_local_op_st.sum,dram__bytes.sum
+    metrics+=,smsp__average_warp_latency_issue_stalled_long_scoreboard.ratio,smsp__average_warp_latency_issue_stalled_barrier.ratio
+    timeout 300 ncu --clock-control none --kernel-name "$kernel" --launch-skip 1 --launch-count 1 \
+        --metrics "$metrics" --section WarpStateStats --csv --print-units base "$@"
+}
 corpus=/tmp/psc-corpus
 if [ ! -f $corpus/INDEX.json ]; then mkdir -p $corpus && tar -xJf device/corpus.tar.xz -C $corpus; fi
 jobs=$(nproc)
@@ -254,39 +268,23 @@ for stage in "$@"; do
         done
         ;;
     profile)
-        # The clocks as they are (METHOD.md); the second launch of the stepping kernel, after a warm-up one.
+        # The stepping kernel (ncu_metrics).
         mkdir -p "$out/profile"
-        metrics=gpu__time_duration.sum,launch__registers_per_thread,launch__grid_size,launch__block_size
-        metrics+=,sm__warps_active.avg.pct_of_peak_sustained_active,sm__maximum_warps_per_active_cycle_pct
-        metrics+=,smsp__issue_active.avg.pct_of_peak_sustained_active,smsp__inst_executed.sum,smsp__thread_inst_executed.sum
-        metrics+=,smsp__sass_average_branch_targets_threads_uniform.pct,smsp__thread_inst_executed_per_inst_executed.ratio
-        metrics+=,l1tex__t_bytes_pipe_lsu_mem_local_op_ld.sum,l1tex__t_bytes_pipe_lsu_mem_local_op_st.sum,dram__bytes.sum
-        metrics+=,smsp__average_warp_latency_issue_stalled_long_scoreboard.ratio,smsp__average_warp_latency_issue_stalled_barrier.ratio
         for name in ${PROFILE_GAMES:-$(basename -s .txt bench/games/*.txt)}; do
             game=bench/games/$name.txt
-            timeout 300 ncu --clock-control none --kernel-name psc_run_kernel --launch-skip 1 --launch-count 1 \
-                --metrics "$metrics" --section WarpStateStats --csv --print-units base \
-                "$psc" bench "$game" --backend cuda --batch "${PROFILE_BATCH:-131072}" --steps 8 --repeats 1 --warmup 1 \
+            ncu_metrics psc_run_kernel "$psc" bench "$game" --backend cuda --batch "${PROFILE_BATCH:-131072}" --steps 8 --repeats 1 --warmup 1 \
                 "${fast[@]}" "${state[@]}" > "$out/profile/$name.csv" 2> "$out/profile/$name.err"
             echo "$name: ncu exit $?, $(grep -c psc_run_kernel "$out/profile/$name.csv") metric rows"
         done
         tar -czf "$out/profile.tar.gz" -C "$out" profile && rm -rf "$out/profile"
         ;;
     expandprofile)
-        # As profile, for the expansion kernel: its second launch, after the bench's first (timing) call.
+        # The expansion kernel (ncu_metrics); the bench's first call is its first launch.
         mkdir -p "$out/expandprofile"
-        metrics=gpu__time_duration.sum,launch__registers_per_thread,launch__grid_size,launch__block_size
-        metrics+=,sm__warps_active.avg.pct_of_peak_sustained_active,sm__maximum_warps_per_active_cycle_pct
-        metrics+=,smsp__issue_active.avg.pct_of_peak_sustained_active,smsp__inst_executed.sum,smsp__thread_inst_executed.sum
-        metrics+=,smsp__sass_average_branch_targets_threads_uniform.pct,smsp__thread_inst_executed_per_inst_executed.ratio
-        metrics+=,l1tex__t_bytes_pipe_lsu_mem_local_op_ld.sum,l1tex__t_bytes_pipe_lsu_mem_local_op_st.sum,dram__bytes.sum
-        metrics+=,launch__stack_size,sm__warps_launched.sum
         for spec in ${EXPAND_PROFILE_LEVELS:-sokoban:0 atlas:0 atlas:9 atlas:10}; do
             name=${spec%:*}
             level=${spec#*:}
-            timeout 300 ncu --clock-control none --kernel-name psc_expand_kernel --launch-skip 1 --launch-count 1 \
-                --metrics "$metrics" --section WarpStateStats --csv --print-units base \
-                "$psc" bench "bench/games/$name.txt" --expand --level "$level" --backend cuda \
+            ncu_metrics psc_expand_kernel "$psc" bench "bench/games/$name.txt" --expand --level "$level" --backend cuda \
                 --batch "${EXPAND_PROFILE_STATES:-16384}" --repeats 1 --warmup 0 "${fast[@]}" \
                 > "$out/expandprofile/$name.L$level.csv" 2> "$out/expandprofile/$name.L$level.err"
             echo "$name level $level: ncu exit $?, $(grep -c psc_expand_kernel "$out/expandprofile/$name.L$level.csv") metric rows"

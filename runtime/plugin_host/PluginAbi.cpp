@@ -596,16 +596,14 @@ PSC_API int psc_expand(psc_batch* batch, int32_t template_env, const void* keys,
         EnvBuffer e(g.envBytes);
         DeadlineWatch watch(deadline);
         for (int at = begin; at < end; ++at) {
-            if (watch.passed()) {  // a child not started by the deadline is none (expandKey)
-                flags[at] = PSC_EXPAND_TIMED_OUT;
-                if (hashes) hashes[at] = 0;
-                if (estimates) estimates[at] = 0;
-                continue;
-            }
             uint64_t* child = out + static_cast<size_t>(at) * words;
-            std::memcpy(e.data(), base, g.envBytes);
-            flags[at] = g.expandKey(e.data(), parents + static_cast<size_t>(at / action_count) * words, actions[at % action_count],
-                                    child, deadline);
+            if (watch.passed()) {
+                flags[at] = PSC_EXPAND_TIMED_OUT;  // a child not started by the deadline is none (expandKey)
+            } else {
+                std::memcpy(e.data(), base, g.envBytes);
+                flags[at] = g.expandKey(e.data(), parents + static_cast<size_t>(at / action_count) * words,
+                                        actions[at % action_count], child, deadline);
+            }
             const bool noChild = flags[at] == PSC_EXPAND_TIMED_OUT || flags[at] == PSC_EXPAND_INVALID;
             if (hashes) hashes[at] = noChild ? 0 : g.hashKey(child);
             if (estimates) estimates[at] = noChild ? 0 : g.winDistance(e.data());

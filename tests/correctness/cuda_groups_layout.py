@@ -226,6 +226,14 @@ def with_rules(game, tmp, rules_text, prefix):
     return path
 
 
+def check_spans_in_units(psc, game, units, failures):
+    """check(), and where it passes, the game's spans lie in at least `units` compile units."""
+    before = len(failures)
+    spans = check(psc, game, failures)
+    if len(failures) == before and len(set(re.findall(r"_rules_unit(\d+)", " ".join(spans or [])))) < units:
+        failures.append(f"{os.path.basename(game)}: spans in fewer than {units} units: {spans}")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("psc")
@@ -239,16 +247,9 @@ def main():
         with tempfile.TemporaryDirectory() as tmp:
             check(a.psc, with_rules(a.large_group, tmp, LARGE_GROUP, "large_group_"), failures, expect_parts=True)
             # The same rules as groups of their own: spans over several units.
-            many = with_rules(a.large_group, tmp, LARGE_GROUP.replace("\n+ ", "\n"), "many_groups_")
-            before = len(failures)
-            spans = check(a.psc, many, failures)
-            if len(failures) == before and len(set(re.findall(r"_rules_unit(\d+)", " ".join(spans or [])))) < 2:
-                failures.append(f"{os.path.basename(many)}: spans in fewer than two units: {spans}")
-            heavy = with_rules(a.large_group, tmp, HEAVY_LAST, "heavy_last_")
-            before = len(failures)
-            spans = check(a.psc, heavy, failures)
-            if len(failures) == before and len(set(re.findall(r"_rules_unit(\d+)", " ".join(spans or [])))) < 4:
-                failures.append(f"{os.path.basename(heavy)}: spans in fewer than four units: {spans}")
+            check_spans_in_units(a.psc, with_rules(a.large_group, tmp, LARGE_GROUP.replace("\n+ ", "\n"), "many_groups_"),
+                                 2, failures)
+            check_spans_in_units(a.psc, with_rules(a.large_group, tmp, HEAVY_LAST, "heavy_last_"), 4, failures)
     for f in failures:
         print("FAIL", f)
     sys.exit(1 if failures else 0)
